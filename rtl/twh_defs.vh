@@ -1,0 +1,48 @@
+// Shared constants of the twowire-host core: phase and status codes and the
+// host-generated timing windows of the spec's section 4 table (microseconds).
+// These codes are part of the programming model: never renumber them.
+`ifndef TWH_DEFS_VH
+`define TWH_DEFS_VH
+
+// Phase codes (twh_link `phase` output)
+`define TWH_PH_IDLE        3'd0
+`define TWH_PH_CHARGE      3'd1
+`define TWH_PH_SYNC        3'd2
+`define TWH_PH_PREAMBLE    3'd3
+`define TWH_PH_COMMAND     3'd4
+`define TWH_PH_EXECUTE     3'd5
+`define TWH_PH_LISTEN      3'd6
+`define TWH_PH_TURNAROUND  3'd7
+
+// Result status codes
+`define TWH_ST_OK              4'd0
+`define TWH_ST_NO_RESPONSE     4'd1
+`define TWH_ST_BAD_CHECKSUM    4'd2
+`define TWH_ST_FRAMING         4'd3
+`define TWH_ST_SHORT_RESPONSE  4'd4
+`define TWH_ST_LINE_STUCK_LOW  4'd5
+`define TWH_ST_LINE_STUCK_HIGH 4'd6
+`define TWH_ST_BLOCKED         4'd7
+
+// Spec windows, microseconds (the charge, listen and turnaround phases have
+// no spec maximum; the 16-bit duration inputs cap them at 65535 us).
+`define TWH_CHARGE_MIN      16'd7000
+`define TWH_SYNC_MIN        16'd900
+`define TWH_SYNC_MAX        16'd1100
+`define TWH_PREAMBLE_MIN    16'd1800
+`define TWH_PREAMBLE_MAX    16'd2200
+`define TWH_EXECUTE_MIN     16'd3500
+`define TWH_EXECUTE_MAX     16'd10000
+`define TWH_LISTEN_MIN      16'd2000
+`define TWH_TURNAROUND_MIN  16'd2000
+`define TWH_US_MAX          16'd65535
+
+// Defaults of NOTES.md, microseconds
+`define TWH_CHARGE_DEF      16'd8000
+`define TWH_SYNC_DEF        16'd1000
+`define TWH_PREAMBLE_DEF    16'd2000
+`define TWH_EXECUTE_DEF     16'd4000
+`define TWH_LISTEN_DEF      16'd3000
+`define TWH_TURNAROUND_DEF  16'd2000
+
+`endif

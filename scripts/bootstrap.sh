@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# Installs whatever the project needs and is missing, and nothing else:
+#  - Debian packages (as root: apt-get; otherwise print the exact command and stop)
+#  - the pinned Python packages of requirements.txt into .venv
+# Usage: scripts/bootstrap.sh [--waves]   (--waves also wants gtkwave)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+# command -> Debian package
+tools=(iverilog:iverilog vvp:iverilog verilator:verilator yosys:yosys make:make gcc:gcc)
+[ "${1:-}" = "--waves" ] && tools+=(gtkwave:gtkwave)
+
+missing=()
+for pair in "${tools[@]}"; do
+    command -v "${pair%%:*}" >/dev/null 2>&1 || missing+=("${pair##*:}")
+done
+python3 -c 'import venv, ensurepip' >/dev/null 2>&1 || missing+=(python3-venv)
+command -v python3 >/dev/null 2>&1 || missing+=(python3)
+
+if [ ${#missing[@]} -gt 0 ]; then
+    # de-duplicate, keep order
+    pkgs=$(printf '%s\n' "${missing[@]}" | awk '!seen[$0]++' | tr '\n' ' ')
+    if [ "$(id -u)" -eq 0 ]; then
+        echo "bootstrap: installing Debian packages: $pkgs"
+        export DEBIAN_FRONTEND=noninteractive
+        apt-get update -qq
+        # shellcheck disable=SC2086
+        apt-get install -y -qq $pkgs
+    else
+        echo "bootstrap: missing Debian packages. Run:"
+        echo "    sudo apt-get install -y $pkgs"
+        exit 1
+    fi
+fi
+
+if [ ! -x .venv/bin/python ]; then
+    echo "bootstrap: creating .venv"
+    python3 -m venv .venv
+fi
+stamp=.venv/.requirements.stamp
+if [ ! -f "$stamp" ] || ! cmp -s requirements.txt "$stamp"; then
+    echo "bootstrap: installing requirements.txt into .venv"
+    .venv/bin/python -m pip install -q --disable-pip-version-check -r requirements.txt
+    cp requirements.txt "$stamp"
+fi

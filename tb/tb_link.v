@@ -1,0 +1,86 @@
+// Test-bench top for one twh_link engine.
+//
+// The clock is generated here (not from Python) because a Python-driven clock
+// costs ~20x the simulation time. Everything else (config, command/result
+// streams, the peripheral's drive, fault injection) is driven by cocotb.
+//
+// The 2-wire line itself is resolved here: a stuck-line fault overrides
+// everything, otherwise the host drives when line_oe is high, otherwise the
+// peripheral model drives when periph_oe is high, otherwise a weak pull-down
+// (the reference front end's bias) reads low. `glitch` is OR-ed on top so a
+// test can inject short spikes anywhere.
+`timescale 1ns/1ps
+`default_nettype none
+module tb_link #(
+    parameter integer CLK_HZ = 12_000_000
+) (
+    input  wire        rst,
+    // timing configuration, microseconds
+    input  wire [15:0] cfg_charge_us,
+    input  wire [15:0] cfg_sync_us,
+    input  wire [15:0] cfg_preamble_us,
+    input  wire [15:0] cfg_execute_us,
+    input  wire [15:0] cfg_listen_us,
+    input  wire [15:0] cfg_turnaround_us,
+    input  wire        cfg_idle_charge,
+    input  wire        cfg_unlock,
+    // command stream
+    input  wire        s_cmd_valid,
+    output wire        s_cmd_ready,
+    input  wire [7:0]  s_cmd_code,
+    input  wire [15:0] s_cmd_payload,
+    input  wire [7:0]  s_cmd_tag,
+    // result stream
+    output wire        m_res_valid,
+    input  wire        m_res_ready,
+    output wire [7:0]  m_res_code,
+    output wire [15:0] m_res_data,
+    output wire [3:0]  m_res_status,
+    output wire [7:0]  m_res_tag,
+    // host pins and status
+    output wire        line_o,
+    output wire        line_oe,
+    output wire        line_i,
+    output wire [2:0]  phase,
+    output wire        busy,
+    // the peripheral model and fault injection
+    input  wire        periph_o,
+    input  wire        periph_oe,
+    input  wire        stuck_en,
+    input  wire        stuck_val,
+    input  wire        glitch,
+    output wire        line
+);
+    reg clk = 1'b0;
+    localparam real HALF_NS = 1.0e9 / (2.0 * CLK_HZ);
+    always #(HALF_NS) clk = ~clk;
+
+    assign line = stuck_en ? stuck_val
+                : ((line_oe ? line_o : (periph_oe ? periph_o : 1'b0)) | glitch);
+    assign line_i = line;
+
+    twh_link #(.CLK_HZ(CLK_HZ), .TAG_W(8)) dut (
+        .clk(clk), .rst(rst),
+        .cfg_charge_us(cfg_charge_us), .cfg_sync_us(cfg_sync_us),
+        .cfg_preamble_us(cfg_preamble_us), .cfg_execute_us(cfg_execute_us),
+        .cfg_listen_us(cfg_listen_us), .cfg_turnaround_us(cfg_turnaround_us),
+        .cfg_idle_charge(cfg_idle_charge), .cfg_unlock(cfg_unlock),
+        .s_cmd_valid(s_cmd_valid), .s_cmd_ready(s_cmd_ready),
+        .s_cmd_code(s_cmd_code), .s_cmd_payload(s_cmd_payload), .s_cmd_tag(s_cmd_tag),
+        .m_res_valid(m_res_valid), .m_res_ready(m_res_ready),
+        .m_res_code(m_res_code), .m_res_data(m_res_data),
+        .m_res_status(m_res_status), .m_res_tag(m_res_tag),
+        .line_o(line_o), .line_oe(line_oe), .line_i(line_i),
+        .phase(phase), .busy(busy)
+    );
+
+    // `make demo` asks for a small VCD of the pins with +vcd=<file>.
+    reg [1023:0] vcd_file;
+    initial begin
+        if ($value$plusargs("vcd=%s", vcd_file)) begin
+            $dumpfile(vcd_file);
+            $dumpvars(0, line_o, line_oe, line_i, phase, busy);
+        end
+    end
+endmodule
+`default_nettype wire
