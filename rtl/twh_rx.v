@@ -9,7 +9,10 @@
 //   start bit is re-checked this way, so a false start is dropped.
 // - One stop bit is checked; the next start is hunted right after it, so a
 //   sender with one or two stop bits is accepted. A 0 stop bit ends
-//   reception with `frame_err`.
+//   reception with `frame_err`, except after eight 0 data bits: in on-off
+//   keying a sender that stops keying leaves the line at 0, and a whole
+//   character of 0s (a break) means the answer ended: reception stops and
+//   the answer counts as short, not as a framing error.
 // - 30.75-31.75 kbps: after 9.5 bits the sampling drift is at most ~5 us.
 // Clearing `en` (outside the listen phase) clears everything.
 `default_nettype none
@@ -24,6 +27,7 @@ module twh_rx (
     output reg         started,     // a start bit passed its re-check
     output reg         frame_err
 );
+    reg       ended;      // the line went silent (a break) mid-answer
     reg       active;     // inside a character
     reg       more;       // a good stop bit was seen: next start needs no mark
     reg [4:0] mark;       // consecutive mark ticks, saturating at 16
@@ -32,7 +36,7 @@ module twh_rx (
     reg [1:0] votes;      // ones among the samples of this bit
     reg [7:0] sh;
 
-    wire done = (nbytes == 2'd3) || frame_err;
+    wire done = (nbytes == 2'd3) || frame_err || ended;
     wire vote_tick = (sub == 5'd11) || (sub == 5'd15) || (sub == 5'd19);
     // the third sample completes the vote
     wire bit_val = (votes + {1'b0, env}) >= 2'd2;
@@ -43,6 +47,7 @@ module twh_rx (
             bytes     <= 24'd0;
             started   <= 1'b0;
             frame_err <= 1'b0;
+            ended     <= 1'b0;
             active    <= 1'b0;
             more      <= 1'b0;
             mark      <= 5'd0;
@@ -80,6 +85,8 @@ module twh_rx (
                                 more   <= 1'b1;
                                 nbytes <= nbytes + 1'b1;
                                 bytes  <= {bytes[15:0], sh};
+                            end else if (sh == 8'd0) begin
+                                ended     <= 1'b1;
                             end else begin
                                 frame_err <= 1'b1;
                             end

@@ -1,0 +1,12 @@
+# pytest configuration: the test-bench modules live in tb/ and are imported
+# by name, both here and inside the simulator (cocotb imports the test module
+# in the simulator process, which inherits PYTHONPATH).
+import os
+import sys
+from pathlib import Path
+
+TB_DIR = Path(__file__).resolve().parent
+if str(TB_DIR) not in sys.path:
+    sys.path.insert(0, str(TB_DIR))
+os.environ["PYTHONPATH"] = os.pathsep.join(
+    p for p in (str(TB_DIR), os.environ.get("PYTHONPATH", "")) if p)

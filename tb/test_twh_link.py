@@ -1,0 +1,417 @@
+"""twh_link: the one-channel engine against the behavioural peripheral.
+
+Every test runs the independent spec monitor on the host pins (LinkTB) and
+fails on any breach of the spec's timing table, carrier, bit rate, framing
+or checksum. The pytest functions at the bottom build and run these cocotb
+tests on Icarus through the cocotb runner.
+"""
+import os
+import random
+
+import cocotb
+import pytest
+from cocotb.triggers import Edge, RisingEdge, Timer
+
+import profiles
+import protocol as p
+from linktb import LinkTB
+from periph_model import Faults, PeripheralModel
+from protocol import Phase, Status
+
+BLANK = 0x3FFF
+
+
+async def make_tb(dut, profile_name="o2_v18", faults=None, **timing):
+    prof = profiles.PROFILES[profile_name]
+    model = PeripheralModel(dut, prof, faults or Faults())
+    tb = LinkTB(dut, model, execute_max_us=prof.exec_max_us)
+    await tb.start()
+    if timing:
+        tb.set_timing(**timing)
+    return tb, model, prof
+
+
+def check_answer(model, res):
+    """The result carries exactly what the peripheral put on the line."""
+    sent = model.log[-1].response
+    assert sent is not None, f"peripheral sent nothing, yet {res}"
+    assert res.data == (sent[0] << 8 | sent[1]), (res, sent)
+
+
+# ---------------------------------------------------------------- commands
+async def command_set(dut, profile_name):
+    tb, model, prof = await make_tb(dut, profile_name)
+    size = prof.flash_size
+
+    async def ok(code, payload, expect):
+        res = await tb.command(code, payload)
+        assert res.status == Status.OK, (hex(code), res)
+        check_answer(model, res)
+        assert res.data == expect, (hex(code), hex(res.data), hex(expect))
+
+    async def silent(code, payload=0x00AA):
+        res = await tb.command(code, payload)
+        assert res.status == Status.NO_RESPONSE, (hex(code), res)
+        assert res.data == 0
+
+    msb, lsb = prof.config_response()
+    await ok(0x40, 0xAA, msb << 8 | lsb)
+    await ok(0x41, 0xAA, prof.fw_byte << 8 | prof.type_byte)
+    await ok(0x42, 0xAA, prof.adc_ref_voltage)
+    await ok(0x43, 0xAA, prof.adc_temperature)
+    await ok(0x44, 0xAA, prof.adc_o2)
+    for addr in (0x00, 0x0A, 0x10, 0x19, 0x20, size - 1):
+        await ok(*p.addr_cmd(0x48, addr), prof.flash[addr])
+    # find free from the field-calibration area: the first blank word
+    free = next(a for a in range(0x20, size) if prof.flash[a] == BLANK)
+    await ok(*p.addr_cmd(0x46, 0x20), free)
+    # write-once: a blank word takes the value, a second write changes nothing
+    await silent(*p.write_cmd(free, 0x1234))
+    await ok(*p.addr_cmd(0x48, free), 0x1234)
+    await silent(*p.write_cmd(free, 0x0555))
+    await ok(*p.addr_cmd(0x48, free), 0x1234)
+    # page erase (16 words) blanks it again
+    await silent(*p.addr_cmd(0x4A, free))
+    await ok(*p.addr_cmd(0x48, free), BLANK)
+    # addresses past the flash: no response, whichever command family
+    await silent(*p.addr_cmd(0x48, 0x100))
+    await silent(*p.addr_cmd(0x46, 0x100))
+    await silent(*p.addr_cmd(0x4A, 0x100))
+    # reserved commands get no response
+    for code in (0x00, 0x3F, 0x45, 0x4C, 0x7F):
+        await silent(code)
+    await tb.finish()
+
+
+@cocotb.test()
+async def commands_o2_v15(dut):
+    await command_set(dut, "o2_v15")
+
+
+@cocotb.test()
+async def commands_o2_v18(dut):
+    await command_set(dut, "o2_v18")
+
+
+@cocotb.test()
+async def commands_o2_v26(dut):
+    await command_set(dut, "o2_v26")
+
+
+@cocotb.test()
+async def commands_co2(dut):
+    await command_set(dut, "co2")
+
+
+@cocotb.test()
+async def commands_co2_stick(dut):
+    await command_set(dut, "co2_stick")
+
+
+# ---------------------------------------------------------------- faults
+async def one_fault(tb, model, faults, code=0x41):
+    model.faults = faults
+    return await tb.command(code)
+
+
+@cocotb.test()
+async def fault_statuses(dut):
+    """Each fault of the peripheral gives its own status; nothing invented."""
+    tb, model, prof = await make_tb(dut)
+    expect_data = prof.fw_byte << 8 | prof.type_byte
+
+    res = await one_fault(tb, model, Faults(no_response=True))
+    assert res.status == Status.NO_RESPONSE and res.data == 0, res
+
+    res = await one_fault(tb, model, Faults(bad_checksum=True))
+    assert res.status == Status.BAD_CHECKSUM, res
+    check_answer(model, res)
+
+    for byte in (0, 1, 2):
+        res = await one_fault(tb, model, Faults(bad_stop_bit=byte))
+        assert res.status == Status.FRAMING, (byte, res)
+        assert res.data == 0, res
+
+    for n in (1, 2):
+        res = await one_fault(tb, model, Faults(truncate=n))
+        assert res.status == Status.SHORT_RESPONSE, (n, res)
+        assert res.data == 0, res
+
+    # the same command answers normally again afterwards
+    res = await one_fault(tb, model, Faults())
+    assert res.status == Status.OK and res.data == expect_data, res
+    await tb.finish()
+
+
+@cocotb.test()
+async def response_tolerance(dut):
+    """Bit rate, carrier frequency, duty, baseband and one stop bit accepted."""
+    tb, model, prof = await make_tb(dut)
+    expect_data = prof.fw_byte << 8 | prof.type_byte
+    cases = [
+        dict(baud=30750), dict(baud=31750),
+        dict(carrier_hz=0.90e6, duty=0.3), dict(carrier_hz=0.90e6, duty=0.7),
+        dict(carrier_hz=1.10e6, duty=0.3), dict(carrier_hz=1.10e6, duty=0.7),
+        dict(baseband=True), dict(stop_bits=1),
+        dict(stop_bits=1, baud=31750, carrier_hz=1.10e6, duty=0.3),
+        dict(baud=30750, carrier_hz=0.90e6, duty=0.3),
+    ]
+    for case in cases:
+        res = await one_fault(tb, model, Faults(**case))
+        assert res.status == Status.OK and res.data == expect_data, (case, res)
+        check_answer(model, res)
+    await tb.finish()
+
+
+@cocotb.test()
+async def late_response(dut):
+    """A late answer that ends inside the listen window is taken; one that
+    runs past it is reported short, never half-read as OK."""
+    tb, model, prof = await make_tb(dut)
+    listen = tb.timing["listen"]
+    # mark 32 us, then 3 characters; the last stop bit is checked ~9.5 bits
+    # into the third character: about 32 + 704 + 304 us after the mark starts
+    answer_us = 32 + 2 * 11 * 32 + 9.5 * 32
+    res = await one_fault(tb, model, Faults(response_delay_us=listen - answer_us - 40))
+    assert res.status == Status.OK, res
+    check_answer(model, res)
+    res = await one_fault(tb, model, Faults(response_delay_us=listen - answer_us + 40))
+    assert res.status == Status.SHORT_RESPONSE, res
+    res = await one_fault(tb, model, Faults(response_delay_us=listen + 500))
+    assert res.status == Status.NO_RESPONSE, res
+    await tb.finish()
+
+
+async def glitcher(dut, widths_ns, spacing_us):
+    """Spikes on the line, `spacing_us` apart, during every listen phase."""
+    rng = random.Random(1)
+    while True:
+        while int(dut.phase.value) != Phase.LISTEN:
+            await Edge(dut.phase)
+        while int(dut.phase.value) == Phase.LISTEN:
+            await Timer(spacing_us + rng.random() * spacing_us, "us")
+            dut.glitch.value = 1
+            await Timer(rng.choice(widths_ns), "ns")
+            dut.glitch.value = 0
+
+
+@cocotb.test()
+async def glitches_during_listen(dut):
+    """Spikes up to 0.5 us, at least 10 us apart, during the whole listen
+    phase: the answer is still read right, and silence stays silence."""
+    tb, model, prof = await make_tb(dut)
+    expect_data = prof.fw_byte << 8 | prof.type_byte
+    cocotb.start_soon(glitcher(dut, (30, 60, 120, 250, 500), 10))
+    for _ in range(3):
+        res = await one_fault(tb, model, Faults())
+        assert res.status == Status.OK and res.data == expect_data, res
+    res = await one_fault(tb, model, Faults(no_response=True))
+    assert res.status == Status.NO_RESPONSE, res
+    await tb.finish()
+
+
+@cocotb.test()
+async def stuck_line(dut):
+    """A line stuck high or low is reported as such (host read-back)."""
+    tb, model, prof = await make_tb(dut)
+    dut.stuck_val.value = 1
+    dut.stuck_en.value = 1
+    res = await tb.command(0x41)
+    assert res.status == Status.LINE_STUCK_HIGH and res.data == 0, res
+    dut.stuck_val.value = 0
+    res = await tb.command(0x41)
+    assert res.status == Status.LINE_STUCK_LOW and res.data == 0, res
+    dut.stuck_en.value = 0
+    res = await tb.command(0x41)
+    assert res.status == Status.OK, res
+    await tb.finish()
+
+
+# ---------------------------------------------------------------- timing
+def last_tx(tb):
+    return tb.monitor.checker.transactions[-1]
+
+
+@cocotb.test()
+async def timing_clamped(dut):
+    """Out-of-window durations are clamped into the spec window; the monitor
+    measures what reached the line."""
+    tb, model, prof = await make_tb(dut)
+    tb.set_timing(charge=100, sync=10, preamble=100, execute=100, listen=0, turnaround=0)
+    res = await tb.command(0x41)
+    assert res.status == Status.OK, res
+    tx = last_tx(tb)
+    assert round(tx.charge_us) == 7000 and round(tx.sync_us) == 900, tx
+    assert round(tx.preamble_us) == 1800 and round(tx.execute_us) == 3500, tx
+    assert round(tx.listen_us) == 2000, tx
+    tb.set_timing(charge=7000, sync=5000, preamble=9000, execute=60000)
+    res = await tb.command(0x41)
+    assert res.status == Status.OK, res
+    tx = last_tx(tb)
+    # turnaround driven low for 2000 us, then one idle period before the charge
+    assert 2000 <= tb.monitor.checker.transactions[-2].turnaround_us < 2002
+    assert round(tx.sync_us) == 1100 and round(tx.preamble_us) == 2200, tx
+    assert round(tx.execute_us) == 10000, tx
+    # the window edges themselves pass unchanged
+    tb.set_timing(charge=7000, sync=900, preamble=1800, execute=3500, listen=2000)
+    res = await tb.command(0x41)
+    assert res.status == Status.OK, res
+    tx = last_tx(tb)
+    assert (round(tx.sync_us), round(tx.preamble_us), round(tx.execute_us)) == (900, 1800, 3500)
+    # a 4-byte command phase is 44 bits, a 3-byte one 33
+    assert round(tx.command_us) == 33 * 32
+    await tb.command(*p.write_cmd(0x30, 0x155))
+    assert round(last_tx(tb).command_us) == 44 * 32
+    await tb.finish()
+
+
+@cocotb.test()
+async def timing_lab_unlock(dut):
+    """cfg_unlock takes durations as given (lab work); zero reads as one."""
+    tb, model, prof = await make_tb(dut)
+    tb.monitor.allow_out_of_spec(True)
+    dut.cfg_unlock.value = 1
+    tb.set_timing(sync=500, preamble=2500, execute=3000, listen=0)
+    res = await tb.command(0x41)
+    tx = last_tx(tb)
+    assert (round(tx.sync_us), round(tx.preamble_us), round(tx.execute_us)) == (500, 2500, 3000), tx
+    assert round(tx.listen_us) == 1, tx
+    assert res.status == Status.NO_RESPONSE, res     # no time left to answer
+    await tb.finish()
+
+
+@cocotb.test()
+async def back_to_back(dut):
+    """Queued commands run one after another with the turnaround between
+    them, results in order with their tags."""
+    tb, model, prof = await make_tb(dut)
+    cmds = [(0x41, 0xAA), (0x40, 0xAA), p.write_cmd(0x40, 0x0ABC), (0x44, 0xAA)]
+
+    async def feeder():
+        for tag, (code, payload) in enumerate(cmds):
+            await tb.submit(code, payload, tag + 10)
+
+    cocotb.start_soon(feeder())
+    for tag, (code, _) in enumerate(cmds):
+        res = await tb.result()
+        assert res.tag == tag + 10 and res.code == code, res
+    txs = tb.monitor.checker.transactions
+    assert len(txs) == len(cmds)
+    for tx in txs[:-1]:
+        # the next charge starts as soon as the turnaround allows
+        assert 2000 <= tx.turnaround_us < 2003, tx.turnaround_us
+    await tb.finish()
+
+
+@cocotb.test()
+async def result_backpressure(dut):
+    """A result nobody takes is held; no new command is accepted meanwhile,
+    and nothing is lost."""
+    tb, model, prof = await make_tb(dut)
+    dut.m_res_ready.value = 0
+    await tb.submit(0x41, 0xAA, 1)
+    if not dut.m_res_valid.value:
+        await RisingEdge(dut.m_res_valid)
+    await Timer(5, "ms")
+    assert dut.m_res_valid.value == 1
+    assert dut.s_cmd_ready.value == 0
+    assert int(dut.phase.value) == Phase.IDLE
+    dut.m_res_ready.value = 1
+    res = await tb.result()
+    assert res.tag == 1 and res.status == Status.OK, res
+    res = await tb.command(0x40, 0xAA, 2)
+    assert res.status == Status.OK, res
+    await tb.finish()
+
+
+@cocotb.test()
+async def idle_charge(dut):
+    """With cfg_idle_charge the carrier stays on between transactions."""
+    tb, model, prof = await make_tb(dut)
+    dut.cfg_idle_charge.value = 1
+    await Timer(3, "ms")
+    assert dut.line_oe.value == 1
+    res = await tb.command(0x41)
+    assert res.status == Status.OK, res
+    await Timer(tb.timing["turnaround"] + 100, "us")
+    assert dut.line_oe.value == 1 and int(dut.phase.value) == Phase.IDLE
+    dut.cfg_idle_charge.value = 0
+    await Timer(10, "us")
+    assert dut.line_oe.value == 0
+    await tb.finish()
+
+
+@cocotb.test()
+async def reset_mid_transaction(dut):
+    """Reset in any phase releases the line at once; no stale result comes
+    out, and the next command works."""
+    tb, model, prof = await make_tb(dut)
+    expect_data = prof.fw_byte << 8 | prof.type_byte
+    for ph, delay_us in ((Phase.CHARGE, 500), (Phase.SYNC, 300), (Phase.COMMAND, 200),
+                         (Phase.EXECUTE, 1000), (Phase.LISTEN, 400)):
+        await tb.submit(0x41, 0xAA, 99)
+        while int(dut.phase.value) != ph:
+            await Edge(dut.phase)
+        await Timer(delay_us, "us")
+        assert dut.line_oe.value == (ph != Phase.LISTEN), ph
+        assert await tb.reset_pulse() == 0, f"line still driven a clock into reset in {ph.name}"
+        await RisingEdge(dut.clk)
+        assert dut.line_oe.value == 0 and dut.busy.value == 0, ph
+        res = await tb.command(0x41, 0xAA, 5)
+        assert res.status == Status.OK and res.data == expect_data, (ph, res)
+    await tb.finish()
+
+
+# ---------------------------------------------------------------- clocks
+@cocotb.test()
+async def clock_conformance(dut):
+    """At each clock of the matrix: a 3- and a 4-byte command conform, and
+    the carrier is 1 MHz within 1 % with 45-60 % duty."""
+    tb, model, prof = await make_tb(dut)
+    clk_hz = int(os.environ["TWH_CLK_HZ"])
+    # Spikes shorter than GL-1 clocks never reach the envelope (GL = the
+    # glitch filter length, GLITCH_NS = 100 rounded down, at least 1 clock).
+    gl = max(1, clk_hz // 1000 * 100 // 1_000_000)
+    if gl >= 2:
+        width_ps = int(0.9 * (gl - 1) * 1e12 / clk_hz)
+        for _ in range(20):
+            dut.glitch.value = 1
+            await Timer(width_ps, "ps")
+            dut.glitch.value = 0
+            await Timer(3, "us")
+            assert dut.dut.u_demod.env.value == 0
+    res = await tb.command(*p.write_cmd(0x31, 0x2AAA))
+    assert res.status == Status.NO_RESPONSE, res
+    res = await tb.command(*p.addr_cmd(0x48, 0x31))
+    assert res.status == Status.OK and res.data == 0x2AAA, res
+    for tx in tb.monitor.checker.transactions:
+        assert 0.99e6 <= tx.carrier_mean_hz <= 1.01e6, tx.carrier_mean_hz
+        assert 0.45 <= tx.duty_min and tx.duty_max <= 0.60, (tx.duty_min, tx.duty_max)
+    await tb.finish()
+
+
+# ---------------------------------------------------------------- pytest
+import simrun  # noqa: E402
+
+LINK_SOURCES = ["tb_link.v"]
+TESTS_12MHZ = [
+    "commands_o2_v15", "commands_o2_v18", "commands_o2_v26", "commands_co2",
+    "commands_co2_stick", "fault_statuses", "response_tolerance", "late_response",
+    "glitches_during_listen", "stuck_line", "timing_clamped", "timing_lab_unlock",
+    "back_to_back", "result_backpressure", "idle_charge", "reset_mid_transaction",
+]
+
+
+@pytest.mark.parametrize("testcase", TESTS_12MHZ)
+def test_link(testcase):
+    simrun.run("tb_link", "test_twh_link", f"link_{testcase}",
+               parameters={"CLK_HZ": 12_000_000}, testcase=testcase,
+               tb_sources=LINK_SOURCES)
+
+
+@pytest.mark.parametrize("clk_hz", [4_000_000, 10_500_000, 12_000_000, 27_000_000,
+                                    48_000_000, 100_000_000])
+def test_link_clock(clk_hz):
+    simrun.run("tb_link", "test_twh_link", f"link_clock_{clk_hz}",
+               parameters={"CLK_HZ": clk_hz}, testcase="clock_conformance",
+               tb_sources=LINK_SOURCES, extra_env={"TWH_CLK_HZ": str(clk_hz)})
