@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 import cocotb
 from cocotb.queue import Queue
-from cocotb.triggers import ReadOnly, RisingEdge, Timer
+from cocotb.triggers import FallingEdge, ReadOnly, RisingEdge, Timer
 
 from protocol import Status
 from spec_monitor import SpecMonitor
@@ -80,16 +80,18 @@ class LinkTB:
 
     async def submit(self, code, payload=0x00AA, tag=0):
         d = self.dut
+        # Drive on a falling edge: a write made in the same time step as a
+        # rising edge would land after the DUT sampled its inputs.
+        await FallingEdge(d.clk)
         d.s_cmd_code.value = code
         d.s_cmd_payload.value = payload
         d.s_cmd_tag.value = tag
         d.s_cmd_valid.value = 1
         while True:
-            if not d.s_cmd_ready.value:
-                await RisingEdge(d.s_cmd_ready)
             await RisingEdge(d.clk)
             if d.s_cmd_ready.value:       # value before this edge: accepted
                 break
+            await RisingEdge(d.s_cmd_ready)
         d.s_cmd_valid.value = 0
 
     async def _collect(self):
