@@ -28,10 +28,16 @@ lint: deps
 	    echo "verilator -Wall twh_link CLK_HZ=$$clk"; \
 	    verilator --lint-only -Wall -Irtl $(RTL) --top-module twh_link -GCLK_HZ=$$clk; \
 	done
-	@echo "yosys: synth_ice40 twh_link"
+	@set -e; for top in twh_wb twh_axil; do for ch in 1 3 8; do \
+	    echo "verilator -Wall $$top CHANNELS=$$ch"; \
+	    verilator --lint-only -Wall -Irtl $(RTL) --top-module $$top -GCHANNELS=$$ch; \
+	done; done
 	@mkdir -p build/lint
-	@yosys -q -l build/lint/yosys.log -p "read_verilog -Irtl $(RTL); synth_ice40 -top twh_link; check -assert" >/dev/null
-	@! grep -E "^Warning" build/lint/yosys.log || (echo "yosys warnings above" && false)
+	@set -e; for top in twh_wb twh_axil; do \
+	    echo "yosys: synth_ice40 $$top"; \
+	    yosys -q -l build/lint/yosys_$$top.log -p "read_verilog -Irtl $(RTL); synth_ice40 -top $$top; check -assert" >/dev/null; \
+	    ! grep -E "^Warning" build/lint/yosys_$$top.log || (echo "yosys warnings above" && false); \
+	done
 	@echo "lint clean"
 
 pytest: deps

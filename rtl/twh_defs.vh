@@ -23,6 +23,7 @@
 `define TWH_ST_LINE_STUCK_LOW  4'd5
 `define TWH_ST_LINE_STUCK_HIGH 4'd6
 `define TWH_ST_BLOCKED         4'd7
+`define TWH_ST_CANCELLED       4'd8
 
 // Spec windows, microseconds (the charge, listen and turnaround phases have
 // no spec maximum; the 16-bit duration inputs cap them at 65535 us).
@@ -44,5 +45,15 @@
 `define TWH_EXECUTE_DEF     16'd4000
 `define TWH_LISTEN_DEF      16'd3000
 `define TWH_TURNAROUND_DEF  16'd2000
+
+// Register interface (rdl/twh_regs.rdl is the description)
+`define TWH_MAGIC         32'h54574831    // "TWH1"
+`define TWH_VERSION_MAJOR 8'd1
+`define TWH_VERSION_MINOR 8'd0
+`define TWH_LAB_KEY       32'h4C414221    // "LAB!"
+`define TWH_FACTORY_KEY   32'h46414354    // "FACT"
+// words 0x00-0x1F: manufacturer and factory calibration, never erased or
+// written unless the factory unlock is armed
+`define TWH_FACTORY_END   9'h020
 
 `endif

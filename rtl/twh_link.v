@@ -1,6 +1,8 @@
 // One 2-wire channel: carrier, six-phase sequencer, on-off-keyed UART both
 // ways. A command goes in on a valid/ready stream; exactly one result comes
-// out for it (unless reset intervenes).
+// out for it (unless reset intervenes). A command marked with a non-zero
+// s_cmd_skip (blocked or cancelled upstream) is answered at once with that
+// status and never reaches the line, so its result keeps its place in order.
 //
 // Phases: idle, charge, sync, preamble, command, execute, listen, turnaround
 // (codes in twh_defs.vh). Durations come in as microseconds and are clamped
@@ -43,6 +45,7 @@ module twh_link #(
     input  wire [7:0]       s_cmd_code,
     input  wire [15:0]      s_cmd_payload,
     input  wire [TAG_W-1:0] s_cmd_tag,
+    input  wire [3:0]       s_cmd_skip,    // non-zero: do not send, result status = this
     // result stream
     output reg              m_res_valid,
     input  wire             m_res_ready,
@@ -182,7 +185,14 @@ module twh_link #(
         end else begin
             if (m_res_valid && m_res_ready) m_res_valid <= 1'b0;
 
-            if (accept) begin
+            if (accept && s_cmd_skip != 4'd0) begin
+                // blocked or cancelled upstream: the line is never touched
+                m_res_valid  <= 1'b1;
+                m_res_code   <= s_cmd_code;
+                m_res_tag    <= s_cmd_tag;
+                m_res_status <= s_cmd_skip;
+                m_res_data   <= 16'd0;
+            end else if (accept) begin
                 pending <= 1'b1;
                 cmd_r   <= s_cmd_code;
                 tag_r   <= s_cmd_tag;

@@ -43,6 +43,7 @@ class LinkTB:
         d.s_cmd_code.value = 0
         d.s_cmd_payload.value = 0
         d.s_cmd_tag.value = 0
+        d.s_cmd_skip.value = 0
         d.m_res_ready.value = 1
         d.periph_o.value = 0
         d.periph_oe.value = 0
@@ -78,7 +79,7 @@ class LinkTB:
         self.dut.rst.value = 0
         return oe_after_first_edge
 
-    async def submit(self, code, payload=0x00AA, tag=0):
+    async def submit(self, code, payload=0x00AA, tag=0, skip=0):
         d = self.dut
         # Drive on a falling edge: a write made in the same time step as a
         # rising edge would land after the DUT sampled its inputs.
@@ -86,6 +87,7 @@ class LinkTB:
         d.s_cmd_code.value = code
         d.s_cmd_payload.value = payload
         d.s_cmd_tag.value = tag
+        d.s_cmd_skip.value = skip
         d.s_cmd_valid.value = 1
         while True:
             await RisingEdge(d.clk)
@@ -93,6 +95,7 @@ class LinkTB:
                 break
             await RisingEdge(d.s_cmd_ready)
         d.s_cmd_valid.value = 0
+        d.s_cmd_skip.value = 0
 
     async def _collect(self):
         d = self.dut

@@ -33,6 +33,7 @@ class Status(IntEnum):
     LINE_STUCK_LOW = 5
     LINE_STUCK_HIGH = 6
     BLOCKED = 7
+    CANCELLED = 8
 
 
 class Phase(IntEnum):

@@ -30,6 +30,7 @@ module tb_link #(
     input  wire [7:0]  s_cmd_code,
     input  wire [15:0] s_cmd_payload,
     input  wire [7:0]  s_cmd_tag,
+    input  wire [3:0]  s_cmd_skip,
     // result stream
     output wire        m_res_valid,
     input  wire        m_res_ready,
@@ -66,7 +67,7 @@ module tb_link #(
         .cfg_listen_us(cfg_listen_us), .cfg_turnaround_us(cfg_turnaround_us),
         .cfg_idle_charge(cfg_idle_charge), .cfg_unlock(cfg_unlock),
         .s_cmd_valid(s_cmd_valid), .s_cmd_ready(s_cmd_ready),
-        .s_cmd_code(s_cmd_code), .s_cmd_payload(s_cmd_payload), .s_cmd_tag(s_cmd_tag),
+        .s_cmd_code(s_cmd_code), .s_cmd_payload(s_cmd_payload), .s_cmd_tag(s_cmd_tag), .s_cmd_skip(s_cmd_skip),
         .m_res_valid(m_res_valid), .m_res_ready(m_res_ready),
         .m_res_code(m_res_code), .m_res_data(m_res_data),
         .m_res_status(m_res_status), .m_res_tag(m_res_tag),

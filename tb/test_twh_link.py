@@ -303,6 +303,15 @@ async def back_to_back(dut):
     for tx in txs[:-1]:
         # the next charge starts as soon as the turnaround allows
         assert 2000 <= tx.turnaround_us < 2003, tx.turnaround_us
+    # a command the bus core blocked or cancelled (s_cmd_skip) is answered
+    # with that status and never reaches the line
+    seen = len(model.log)
+    for skip in (Status.BLOCKED, Status.CANCELLED):
+        await tb.submit(*p.write_cmd(0x05, 0x0123), tag=3, skip=skip)
+        res = await tb.result()
+        assert res.status == skip and res.tag == 3 and res.data == 0, res
+    await Timer(30, "ms")
+    assert len(tb.monitor.checker.transactions) == len(cmds) and len(model.log) == seen
     await tb.finish()
 
 

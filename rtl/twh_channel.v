@@ -1,0 +1,235 @@
+// One channel of the bus core: its timing and polling registers, a one-entry
+// command slot fed by the core's dispatcher, the autonomous poller, and the
+// twh_link engine.
+//
+// - Timing writes are refused as a whole when a field lies outside the spec
+//   window (unless the lab unlock is on): the register keeps its value and
+//   `value_refused` pulses. The engine clamps as well, as a last defence.
+// - Poll writes are refused unless the command is read-only (0x40-0x44,
+//   0x46-0x49): a poller must never erase or write a sensor's flash.
+// - When a queued command and a due poll both wait for the engine they take
+//   turns, so neither can starve the other.
+// - Poll results update POLL_RESULT here and never reach the result FIFO;
+//   they are told apart by the engine tag's top bit.
+`default_nettype none
+`include "twh_defs.vh"
+module twh_channel #(
+    parameter integer CLK_HZ = 48_000_000
+) (
+    input  wire        clk,
+    input  wire        rst,
+    input  wire        ms_tick,
+    input  wire        enable,
+    input  wire        idle_charge,
+    input  wire        lab,
+    // register writes, decoded by the core (one-clock strobes)
+    input  wire [31:0] wdata,
+    input  wire        wr_timing0,
+    input  wire        wr_timing1,
+    input  wire        wr_timing2,
+    input  wire        wr_poll_ctrl,
+    output wire [31:0] timing0,
+    output wire [31:0] timing1,
+    output wire [31:0] timing2,
+    output wire [31:0] poll_ctrl,
+    output wire [31:0] poll_result,
+    output wire [31:0] state,
+    output reg         value_refused,
+    output reg         poll_sample,    // a poll result arrived
+    output reg         poll_error,     // ... and it was a link error
+    // command slot
+    input  wire        slot_load,
+    input  wire [7:0]  slot_cmd_i,
+    input  wire [15:0] slot_payload_i,
+    input  wire [4:0]  slot_tag_i,
+    input  wire [3:0]  slot_skip_i,
+    input  wire        cancel,         // flush: a command still in the slot is cancelled
+    output reg         slot_full,
+    // results for the result FIFO
+    output wire        res_valid,
+    input  wire        res_ready,
+    output wire [7:0]  res_cmd,
+    output wire [15:0] res_data,
+    output wire [3:0]  res_status,
+    output wire [4:0]  res_tag,
+    // the 2-wire pin
+    output wire        line_o,
+    output wire        line_oe,
+    input  wire        line_i,
+    output wire        busy
+);
+    // ------------------------------------------------------------ registers
+    reg [15:0] t_charge, t_sync, t_preamble, t_execute, t_listen, t_turnaround;
+    reg [7:0]  poll_cmd, poll_payload;
+    reg [14:0] poll_interval;
+    reg        poll_en;
+    reg [15:0] poll_data;
+    reg [3:0]  poll_status;
+    reg [11:0] poll_count;
+
+    function in_window;
+        input [15:0] v, lo, hi;
+        in_window = (v >= lo) && (v <= hi);
+    endfunction
+
+    wire [15:0] w_lo = wdata[15:0];
+    wire [15:0] w_hi = wdata[31:16];
+    wire ok0 = lab || (in_window(w_lo, `TWH_CHARGE_MIN, `TWH_US_MAX) &&
+                       in_window(w_hi, `TWH_SYNC_MIN, `TWH_SYNC_MAX));
+    wire ok1 = lab || (in_window(w_lo, `TWH_PREAMBLE_MIN, `TWH_PREAMBLE_MAX) &&
+                       in_window(w_hi, `TWH_EXECUTE_MIN, `TWH_EXECUTE_MAX));
+    wire ok2 = lab || (in_window(w_lo, `TWH_LISTEN_MIN, `TWH_US_MAX) &&
+                       in_window(w_hi, `TWH_TURNAROUND_MIN, `TWH_US_MAX));
+    wire [7:0] w_cmd = wdata[7:0];
+    wire ok_poll = (w_cmd >= 8'h40 && w_cmd <= 8'h44) || (w_cmd >= 8'h46 && w_cmd <= 8'h49);
+
+    always @(posedge clk) begin
+        if (rst) begin
+            t_charge      <= `TWH_CHARGE_DEF;
+            t_sync        <= `TWH_SYNC_DEF;
+            t_preamble    <= `TWH_PREAMBLE_DEF;
+            t_execute     <= `TWH_EXECUTE_DEF;
+            t_listen      <= `TWH_LISTEN_DEF;
+            t_turnaround  <= `TWH_TURNAROUND_DEF;
+            poll_cmd      <= 8'h44;
+            poll_payload  <= 8'hAA;
+            poll_interval <= 15'd1000;
+            poll_en       <= 1'b0;
+            value_refused <= 1'b0;
+        end else begin
+            value_refused <= (wr_timing0 && !ok0) || (wr_timing1 && !ok1) ||
+                             (wr_timing2 && !ok2) || (wr_poll_ctrl && !ok_poll);
+            if (wr_timing0 && ok0) begin t_charge   <= w_lo; t_sync       <= w_hi; end
+            if (wr_timing1 && ok1) begin t_preamble <= w_lo; t_execute    <= w_hi; end
+            if (wr_timing2 && ok2) begin t_listen   <= w_lo; t_turnaround <= w_hi; end
+            if (wr_poll_ctrl && ok_poll) begin
+                poll_cmd      <= wdata[7:0];
+                poll_payload  <= wdata[15:8];
+                poll_interval <= wdata[30:16];
+                poll_en       <= wdata[31];
+            end
+        end
+    end
+
+    // ------------------------------------------------------------ poll timer
+    reg [14:0] poll_timer;
+    reg        poll_due;
+    wire [14:0] interval = (poll_interval == 15'd0) ? 15'd1 : poll_interval;
+
+    // ------------------------------------------------------------ slot and arbitration
+    reg [7:0]  slot_cmd;
+    reg [15:0] slot_payload;
+    reg [4:0]  slot_tag;
+    reg [3:0]  slot_skip;
+    reg        prefer_poll;
+
+    wire eng_ready;
+    wire slot_go  = slot_full && (enable || slot_skip != 4'd0);
+    wire poll_go  = poll_en && poll_due && enable;
+    wire use_poll = poll_go && (prefer_poll || !slot_go);
+    wire issue    = use_poll || slot_go;
+    wire taken    = issue && eng_ready;
+
+    always @(posedge clk) begin
+        if (rst) begin
+            slot_full    <= 1'b0;
+            slot_cmd     <= 8'd0;
+            slot_payload <= 16'd0;
+            slot_tag     <= 5'd0;
+            slot_skip    <= 4'd0;
+            prefer_poll  <= 1'b0;
+            poll_timer   <= 15'd1;
+            poll_due     <= 1'b0;
+        end else begin
+            if (slot_load) begin
+                slot_full    <= 1'b1;
+                slot_cmd     <= slot_cmd_i;
+                slot_payload <= slot_payload_i;
+                slot_tag     <= slot_tag_i;
+                slot_skip    <= slot_skip_i;
+            end else if (taken && !use_poll) begin
+                slot_full    <= 1'b0;
+            end
+            if (cancel && slot_full && !(taken && !use_poll)) slot_skip <= `TWH_ST_CANCELLED;
+            if (taken) prefer_poll <= !use_poll;
+
+            if (!poll_en) begin
+                poll_timer <= 15'd1;          // first poll at the next millisecond
+                poll_due   <= 1'b0;
+            end else begin
+                if (ms_tick) begin
+                    if (poll_timer <= 15'd1) begin
+                        poll_timer <= interval;
+                        poll_due   <= 1'b1;
+                    end else begin
+                        poll_timer <= poll_timer - 1'b1;
+                    end
+                end
+                if (taken && use_poll) poll_due <= 1'b0;
+            end
+        end
+    end
+
+    // ------------------------------------------------------------ engine
+    wire        e_valid;
+    wire        e_ready;
+    wire [7:0]  e_code;
+    wire [15:0] e_data;
+    wire [3:0]  e_status;
+    wire [5:0]  e_tag;
+    wire [2:0]  phase;
+    wire        e_is_poll = e_tag[5];
+
+    twh_link #(.CLK_HZ(CLK_HZ), .TAG_W(6)) u_link (
+        .clk(clk), .rst(rst),
+        .cfg_charge_us(t_charge), .cfg_sync_us(t_sync),
+        .cfg_preamble_us(t_preamble), .cfg_execute_us(t_execute),
+        .cfg_listen_us(t_listen), .cfg_turnaround_us(t_turnaround),
+        .cfg_idle_charge(idle_charge), .cfg_unlock(lab),
+        .s_cmd_valid(issue), .s_cmd_ready(eng_ready),
+        .s_cmd_code(use_poll ? poll_cmd : slot_cmd),
+        .s_cmd_payload(use_poll ? {8'h00, poll_payload} : slot_payload),
+        .s_cmd_tag(use_poll ? 6'b100000 : {1'b0, slot_tag}),
+        .s_cmd_skip(use_poll ? 4'd0 : slot_skip),
+        .m_res_valid(e_valid), .m_res_ready(e_ready),
+        .m_res_code(e_code), .m_res_data(e_data), .m_res_status(e_status),
+        .m_res_tag(e_tag),
+        .line_o(line_o), .line_oe(line_oe), .line_i(line_i),
+        .phase(phase), .busy(busy)
+    );
+
+    wire link_err = (e_status >= `TWH_ST_BAD_CHECKSUM) && (e_status <= `TWH_ST_LINE_STUCK_HIGH);
+
+    assign e_ready    = e_is_poll || res_ready;
+    assign res_valid  = e_valid && !e_is_poll;
+    assign res_cmd    = e_code;
+    assign res_data   = e_data;
+    assign res_status = e_status;
+    assign res_tag    = e_tag[4:0];
+
+    always @(posedge clk) begin
+        if (rst) begin
+            poll_data   <= 16'd0;
+            poll_status <= 4'd0;
+            poll_count  <= 12'd0;
+            poll_sample <= 1'b0;
+            poll_error  <= 1'b0;
+        end else begin
+            poll_sample <= e_valid && e_is_poll;
+            poll_error  <= e_valid && e_is_poll && link_err;
+            if (e_valid && e_is_poll) begin
+                poll_data   <= e_data;
+                poll_status <= e_status;
+                poll_count  <= poll_count + 1'b1;
+            end
+        end
+    end
+
+    assign timing0     = {t_sync, t_charge};
+    assign timing1     = {t_execute, t_preamble};
+    assign timing2     = {t_turnaround, t_listen};
+    assign poll_ctrl   = {poll_en, poll_interval, poll_payload, poll_cmd};
+    assign poll_result = {poll_count, poll_status, poll_data};
+    assign state       = {27'd0, slot_full, busy, phase};
+endmodule
+`default_nettype wire
