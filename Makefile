@@ -9,7 +9,7 @@ JOBS   ?= 2
 # the clocks the engine is linted at: each one elaborates different logic
 LINT_CLOCKS := 4000000 10500000 12000000 27000000 48000000 100000000 200000000
 
-.PHONY: all deps test lint pytest demo waves clean help
+.PHONY: all deps test lint pytest demo waves clean help regs check-regs
 
 all: test
 
@@ -43,7 +43,27 @@ lint: deps
 pytest: deps
 	$(PY) -m pytest -n $(JOBS) tb
 
-test: lint pytest
+test: check-regs lint pytest
+
+# Files generated from rdl/twh_regs.rdl (scripts/gen_regs.sh): committed, and
+# check-regs (part of test) fails when they are stale or the header does not
+# compile as gnu99 (host gcc; arm-none-eabi-gcc too when installed).
+REGS_GEN := sw/include/twh_regs.h docs/registers.md
+REGS_CFLAGS := -std=gnu99 -Wall -Wextra -Werror -pedantic -fsyntax-only -Isw/include
+regs: deps
+	bash scripts/gen_regs.sh
+
+check-regs: deps
+	@rm -rf build/gen && bash scripts/gen_regs.sh build/gen
+	@set -e; for f in $(REGS_GEN); do \
+	    diff -u $$f build/gen/$$f || { echo "$$f is stale: run 'make regs'"; exit 1; }; \
+	done
+	gcc $(REGS_CFLAGS) sw/test/twh_regs_h_check.c
+	@if command -v arm-none-eabi-gcc >/dev/null; then \
+	    echo "arm-none-eabi-gcc $(REGS_CFLAGS) -mthumb -mcpu=cortex-m0 sw/test/twh_regs_h_check.c"; \
+	    arm-none-eabi-gcc $(REGS_CFLAGS) -mthumb -mcpu=cortex-m0 sw/test/twh_regs_h_check.c; \
+	else echo "check-regs: arm-none-eabi-gcc not installed, cross-compile check skipped"; fi
+	@echo "generated register files current"
 
 demo: deps
 	$(PY) tb/demo.py

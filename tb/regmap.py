@@ -20,9 +20,10 @@ CHANNELS also decides which channel blocks exist: CH[n] for n < CHANNELS are
 in `RegMap.registers`; the blocks of absent channels (n >= CHANNELS) are in
 `RegMap.absent`, and every access to them must answer with a bus error.
 
-Read/write model used by the mask helpers and `read_after_write()` (this
-is SystemRDL's meaning of the properties; the RDL does not say what bits
-outside every field read as, and this module assumes 0):
+Read/write model used by the mask helpers and `read_after_write()`: the
+SystemRDL meaning of the properties, plus an assumption the RDL does not
+state (rtl/twh_core.v does it): write-only fields and bits outside every
+field read as 0.
 
     sw    onwrite  reads as                    a write ...
     r     -        the hardware value          has no effect
@@ -32,19 +33,34 @@ outside every field read as, and this module assumes 0):
     rw    woclr    the hardware-set value      clears the bits written as 1
     (no field)     0                           has no effect
 
-Example:
+Example (a doctest: tb/test_regmap_py.py runs it):
 
-    import regmap
-    rm = regmap.load(channels=2, fifo_depth=32, clk_hz=100_000_000)
-    for reg in rm.registers:            # every register of this build
-        print(f"{reg.address:#05x} {reg.name:20} reset={reg.reset:#010x}")
-    ctrl = rm["CTRL"]
-    ctrl.field("FLUSH").singlepulse     # True
-    regmap.rw_mask(ctrl)                # 0x0000ff01: ENABLE and IDLE_CHARGE
-    rm["CH[1].TIMING0"].address         # 0x60
-    [r.name for r in rm.absent][:2]     # ['CH[2].TIMING0', 'CH[2].TIMING1']
-    rm["VERSION"].field("CHANNELS").reset   # 2
-    regmap.fields_reset(rm["PARAMS"])   # (100000 << 12) | 32
+    >>> import regmap
+    >>> rm = regmap.load(channels=2, fifo_depth=32, clk_hz=100_000_000)
+    >>> [(hex(r.address), r.name) for r in rm.registers][:3]
+    [('0x0', 'ID'), ('0x4', 'VERSION'), ('0x8', 'PARAMS')]
+    >>> t0 = rm["CH[1].TIMING0"]
+    >>> hex(t0.address), t0.channel, hex(t0.reset), t0.field("SYNC_US").reset
+    ('0x60', 1, '0x3e81f40', 1000)
+    >>> ctrl = rm["CTRL"]
+    >>> f = ctrl.field("FLUSH")
+    >>> f.lsb, f.msb, f.sw, f.onwrite, f.singlepulse
+    (1, 1, 'w', None, True)
+    >>> hex(regmap.rw_mask(ctrl)), hex(regmap.wo_mask(ctrl)), hex(ctrl.read_mask)
+    ('0xff01', '0x2', '0xff01')
+    >>> [r.name for r in rm.absent][:2]        # CH[2]..CH[7]: bus error
+    ['CH[2].TIMING0', 'CH[2].TIMING1']
+    >>> rm["VERSION"].field("CHANNELS").reset
+    2
+    >>> hex(regmap.fields_reset(rm["PARAMS"]))  # CLK_KHZ 100000, FIFO_DEPTH 32
+    '0x186a0020'
+    >>> errors = rm["ERRORS"]
+    >>> errors.field("BLOCKED").onwrite, hex(errors.woclr_mask)
+    ('woclr', '0x1f')
+    >>> hex(regmap.read_after_write(errors, before=0x1F, written=0x05))
+    '0x1a'
+    >>> [hex(a) for a in rm.holes()][:3]      # reserved words inside the map
+    ['0x3c', '0x58', '0x5c']
 """
 from __future__ import annotations
 
@@ -328,8 +344,9 @@ class RegMap:
         return range(start, start + self.channel_stride)
 
     def holes(self) -> List[int]:
-        """Word addresses below `size` that hold no register (reserved
-        space inside the map: the RDL says nothing about what they answer)."""
+        """Word addresses below `size` that hold no register, absent
+        channels not counted (reserved space inside the map; the RDL does
+        not say what an access there answers)."""
         used = {r.address for r in self.all}
         return [a for a in range(0, self.size, 4) if a not in used]
 

@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# Regenerates the files derived from the register map rdl/twh_regs.rdl:
+#   sw/include/twh_regs.h   peakrdl c-header --std gnu99 (C99 + GNU packed
+#                           attribute; no C11 static_assert, see below)
+#   docs/registers.md       peakrdl markdown
+# Both are committed; `make check-regs` (part of `make test`) regenerates them
+# into build/gen/ and fails if the committed ones differ.
+#
+# Usage: scripts/gen_regs.sh [OUTDIR]
+#   without OUTDIR: into the repo (`make regs`);
+#   with OUTDIR: into OUTDIR/sw/include/ and OUTDIR/docs/.
+# PEAKRDL=... overrides the peakrdl executable (default: .venv/bin/peakrdl,
+# else peakrdl on PATH).
+#
+# --std gnu99: the default (--std latest) output ends with a C11
+# `static_assert(sizeof(twh_regs_t) == ..., "Packing error")` and includes
+# <assert.h>, which neither gnu99 nor a bare arm-none-eabi-gcc (no newlib)
+# accepts. The struct definitions are the same either way; the packing check
+# it drops is done more thoroughly by tb/test_regmap_py.py (offsetof of every
+# register against the RDL addresses).
+set -euo pipefail
+out=${1:-}
+if [ -n "$out" ]; then
+    mkdir -p "$out"
+    out=$(cd "$out" && pwd)
+fi
+cd "$(dirname "$0")/.."
+out=${out:-$PWD}
+if [ -z "${PEAKRDL:-}" ]; then
+    if [ -x .venv/bin/peakrdl ]; then PEAKRDL=.venv/bin/peakrdl; else PEAKRDL=peakrdl; fi
+fi
+rdl=rdl/twh_regs.rdl               # relative: the markdown records the path
+cfg=(--peakrdl-cfg scripts/peakrdl.toml)
+note="Generated from $rdl by scripts/gen_regs.sh (make regs): do not edit."
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+
+"$PEAKRDL" c-header "$rdl" "${cfg[@]}" --std gnu99 -o "$tmp/twh_regs.h"
+"$PEAKRDL" markdown "$rdl" "${cfg[@]}" -o "$tmp/registers.md"
+
+mkdir -p "$out/sw/include" "$out/docs"
+{ echo "// $note"; cat "$tmp/twh_regs.h"; } > "$out/sw/include/twh_regs.h"
+{ echo "<!-- $note -->"; cat "$tmp/registers.md"; } > "$out/docs/registers.md"

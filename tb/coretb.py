@@ -1,0 +1,500 @@
+"""Test-bench harness for the bus-attached core (tb/tb_core.v: twh_wb or
+twh_axil around twh_core, up to three channels on simulated 2-wire lines).
+
+- One PeripheralModel and one SpecMonitor per channel, each pointed at its
+  channel through a small adapter whose attributes are that channel's
+  handles (`line`, `periph_o`, `periph_oe`, `line_o`, `line_oe`).
+- A bus driver: cocotbext-wishbone's WishboneMaster (BUS=0) or
+  cocotbext-axi's AxiLiteMaster (BUS=1), both behind `access()`, which
+  returns (data, error) and fails the test if the access is not answered
+  within ACCESS_TIMEOUT_US of simulated time. A protocol check runs around
+  every access: Wishbone answers exactly one ack or err, one clock after the
+  strobe is taken, never both; AXI-Lite takes AW and W in the same clock and
+  answers each access exactly once.
+- Register helpers by name (tb/regmap.py reads rdl/twh_regs.rdl), command
+  push / result pop helpers, and `finish()`, which closes and checks every
+  spec monitor.
+
+The build parameters come from the simulator (the tb_core parameters), with
+the TWH_* environment variables of the pytest runner as a fallback.
+"""
+from __future__ import annotations
+
+import os
+import types
+from dataclasses import dataclass
+from typing import Dict, List, Optional
+
+import cocotb
+from cocotb.simtime import get_sim_time
+from cocotb.triggers import ReadOnly, RisingEdge, Timer, with_timeout
+
+import profiles
+import regmap
+from periph_model import Faults, PeripheralModel
+from protocol import Status
+from spec_monitor import SpecMonitor
+
+# status codes of the bus core (protocol.Status may not carry CANCELLED yet)
+CANCELLED = int(getattr(Status, "CANCELLED", 8))
+BLOCKED = int(Status.BLOCKED)
+OK = int(Status.OK)
+NO_RESPONSE = int(Status.NO_RESPONSE)
+
+LAB_KEY = 0x4C414221       # "LAB!"
+FACTORY_KEY = 0x46414354   # "FACT"
+
+TB_CHANNELS = 3            # channels wired in tb_core.v
+ACCESS_TIMEOUT_US = 50     # every bus access must be answered within this
+
+# NOTES.md defaults, microseconds
+DEFAULT_TIMING = dict(charge=8000, sync=1000, preamble=2000, execute=4000,
+                      listen=3000, turnaround=2000)
+# Lab-short phases (LAB_KEY needed): a transaction takes ~3 ms instead of 21.
+# Short enough to be quick, long enough for the spec monitor to parse (a
+# lab sync or preamble must be longer than 400 us).
+LAB_TIMING = dict(charge=600, sync=500, preamble=500, execute=100, listen=100,
+                  turnaround=100)
+TIMING_FIELDS = {   # register, field for each phase
+    "charge": ("TIMING0", "CHARGE_US"), "sync": ("TIMING0", "SYNC_US"),
+    "preamble": ("TIMING1", "PREAMBLE_US"), "execute": ("TIMING1", "EXECUTE_US"),
+    "listen": ("TIMING2", "LISTEN_US"), "turnaround": ("TIMING2", "TURNAROUND_US"),
+}
+# one default transaction (3-byte command), microseconds
+TXN_US = sum(DEFAULT_TIMING.values()) + 33 * 32
+
+
+class BusError(AssertionError):
+    pass
+
+
+@dataclass(frozen=True)
+class Result:
+    """One entry of the result FIFO (RES_INFO and RES_POP together)."""
+    cmd: int
+    data: int
+    status: int
+    channel: int
+    tag: int
+
+    def __repr__(self):
+        return (f"Result(ch{self.channel} tag={self.tag} cmd={self.cmd:#04x} "
+                f"status={self.status} data={self.data:#06x})")
+
+
+# ---------------------------------------------------------------- bus drivers
+class WishboneDriver:
+    """cocotbext-wishbone master on tb_core's wb_* port, with a check of
+    the classic-cycle handshake around every access."""
+
+    def __init__(self, dut):
+        from cocotbext.wishbone.driver import WishboneMaster, WBOp
+        self._WBOp = WBOp
+        self.dut = dut
+        self.master = WishboneMaster(
+            dut, "wb", dut.clk, width=32,
+            signals_dict={"cyc": "cyc_i", "stb": "stb_i", "we": "we_i",
+                          "adr": "adr_i", "datwr": "dat_i", "datrd": "dat_o",
+                          "ack": "ack_o", "err": "err_o", "sel": "sel_i"})
+        self.violations: List[str] = []
+
+    def idle_inputs(self):
+        d = self.dut
+        for s in (d.wb_cyc_i, d.wb_stb_i, d.wb_we_i, d.wb_adr_i, d.wb_dat_i):
+            s.value = 0
+        d.wb_sel_i.value = 0xF
+
+    async def _watch(self, box):
+        """Samples the handshake at every rising edge of one cycle (values
+        before the edge): a strobe taken at edge k must be answered (ack or
+        err, not both) at edge k+1, and nothing else may be answered."""
+        d = self.dut
+        clk = RisingEdge(d.clk)
+        taken_prev = False
+        answers = 0
+        seen_cyc = False
+        while True:
+            await clk
+            cyc, stb = int(d.wb_cyc_i.value), int(d.wb_stb_i.value)
+            ack, err = int(d.wb_ack_o.value), int(d.wb_err_o.value)
+            if ack and err:
+                self.violations.append(f"{get_sim_time('ns')} ns: ack and err together")
+            resp = ack or err
+            if resp:
+                answers += 1
+                if not taken_prev:
+                    self.violations.append(f"{get_sim_time('ns')} ns: answer without a strobe taken one clock before")
+            elif taken_prev:
+                self.violations.append(f"{get_sim_time('ns')} ns: strobe taken one clock before got no answer")
+            taken_prev = bool(cyc and stb and not resp)
+            seen_cyc = seen_cyc or bool(cyc)
+            if seen_cyc and not cyc and not taken_prev:
+                break
+        box.append(answers)
+
+    async def access(self, addr, data=None, sel=0xF):
+        box: list = []
+        watcher = cocotb.start_soon(self._watch(box))
+        res = await self.master.send_cycle([self._WBOp(adr=addr, dat=data, sel=sel)])
+        await watcher
+        if box and box[0] != 1:
+            self.violations.append(f"access {addr:#x}: {box[0]} answers to one strobe")
+        if self.violations:
+            raise AssertionError("Wishbone handshake: " + "; ".join(self.violations))
+        r = res[0]
+        value = int(r.datrd) if r.datrd is not None and r.datrd.is_resolvable else 0
+        return value, r.ack == 2
+
+
+class AxiLiteDriver:
+    """cocotbext-axi AxiLiteMaster on tb_core's s_axil_* port. A watcher
+    checks that AW and W are always taken in the same clock and counts the
+    responses (one per access)."""
+
+    def __init__(self, dut):
+        from cocotbext.axi import AxiLiteBus, AxiLiteMaster
+        self.dut = dut
+        self.master = AxiLiteMaster(AxiLiteBus.from_prefix(dut, "s_axil"),
+                                    dut.clk, dut.rst)
+        self.violations: List[str] = []
+        self.n_access = 0
+        self.n_resp = 0
+        self._watch_task = None
+
+    def idle_inputs(self):
+        d = self.dut
+        for s in (d.wb_cyc_i, d.wb_stb_i, d.wb_we_i, d.wb_adr_i, d.wb_dat_i, d.wb_sel_i):
+            s.value = 0
+
+    def start(self):
+        self._watch_task = cocotb.start_soon(self._watch())
+
+    async def _watch(self):
+        d = self.dut
+        clk = RisingEdge(d.clk)
+        while True:
+            # sleep while the bus is quiet
+            if not any(int(s.value) for s in (d.s_axil_awvalid, d.s_axil_wvalid,
+                                                d.s_axil_arvalid, d.s_axil_bvalid,
+                                                d.s_axil_rvalid)):
+                await First_any(d)
+            await clk
+            aw = int(d.s_axil_awvalid.value) and int(d.s_axil_awready.value)
+            w = int(d.s_axil_wvalid.value) and int(d.s_axil_wready.value)
+            if aw != w:
+                self.violations.append(f"{get_sim_time('ns')} ns: AW and W taken in different clocks")
+            if int(d.s_axil_bvalid.value) and int(d.s_axil_bready.value):
+                self.n_resp += 1
+            if int(d.s_axil_rvalid.value) and int(d.s_axil_rready.value):
+                self.n_resp += 1
+
+    async def access(self, addr, data=None, sel=0xF):
+        m = self.master
+        self.n_access += 1
+        if data is None:
+            r = await m.read(addr, 4)
+            value, resp = int.from_bytes(r.data, "little"), int(r.resp)
+        else:
+            if sel == 0 or sel & (sel + (sel & -sel)):
+                raise ValueError(f"byte enables {sel:#x}: AxiLiteMaster needs one contiguous run")
+            lo = (sel & -sel).bit_length() - 1
+            n = bin(sel).count("1")
+            b = data.to_bytes(4, "little")[lo:lo + n]
+            r = await m.write(addr + lo, b)
+            value, resp = 0, int(r.resp)
+        if resp not in (0, 2):
+            self.violations.append(f"access {addr:#x}: resp {resp} (expected OKAY or SLVERR)")
+        # the response was counted at the edge that took it
+        await RisingEdge(self.dut.clk)
+        if self.n_resp != self.n_access:
+            self.violations.append(f"{self.n_resp} responses for {self.n_access} accesses")
+        if self.violations:
+            raise AssertionError("AXI-Lite handshake: " + "; ".join(self.violations))
+        return value, resp == 2
+
+
+async def First_any(d):
+    from cocotb.triggers import First
+    await First(RisingEdge(d.s_axil_awvalid), RisingEdge(d.s_axil_wvalid),
+                RisingEdge(d.s_axil_arvalid))
+
+
+# ---------------------------------------------------------------- the harness
+def _param(dut, name, env, default):
+    try:
+        return int(getattr(dut, name).value)
+    except Exception:  # noqa: BLE001 - not every simulator exposes parameters
+        return int(os.environ.get(env, default))
+
+
+class CoreTB:
+    """Harness for tb_core.
+
+    cells: one profile name (or None: no peripheral, the line is pulled
+    down) per channel; only the first CHANNELS are used.
+    """
+
+    def __init__(self, dut, cells=("o2_v18", "o2_v15", "co2"), faults=None):
+        self.dut = dut
+        self.bus_kind = _param(dut, "BUS", "TWH_BUS", 0)
+        self.channels = _param(dut, "CHANNELS", "TWH_CHANNELS", 3)
+        self.fifo_depth = _param(dut, "FIFO_DEPTH", "TWH_FIFO_DEPTH", 16)
+        self.clk_hz = _param(dut, "CLK_HZ", "TWH_CLK_HZ", 12_000_000)
+        self.rm = regmap.load(channels=self.channels, fifo_depth=self.fifo_depth,
+                              clk_hz=self.clk_hz)
+        self.pins = []
+        self.models: List[Optional[PeripheralModel]] = []
+        self.monitors: List[SpecMonitor] = []
+        self.profiles = []
+        for ch in range(TB_CHANNELS):
+            for sig in ("periph_o", "periph_oe", "stuck_en", "stuck_val", "glitch"):
+                getattr(dut, f"{sig}_{ch}").value = 0
+        for ch in range(self.channels):
+            pins = types.SimpleNamespace(
+                line=getattr(dut, f"line_{ch}"), periph_o=getattr(dut, f"periph_o_{ch}"),
+                periph_oe=getattr(dut, f"periph_oe_{ch}"), line_o=getattr(dut, f"line_o_{ch}"),
+                line_oe=getattr(dut, f"line_oe_{ch}"))
+            self.pins.append(pins)
+            name = cells[ch] if ch < len(cells) else None
+            prof = profiles.PROFILES[name] if name else None
+            self.profiles.append(prof)
+            self.models.append(PeripheralModel(pins, prof, faults or Faults()) if prof else None)
+            self.monitors.append(SpecMonitor(pins, execute_max_us=prof.exec_max_us if prof else 10000,
+                                             name=f"spec_ch{ch}"))
+        self.bus = None
+        self.timing = [dict(DEFAULT_TIMING) for _ in range(self.channels)]
+        self.results: List[Result] = []    # popped, not yet claimed by a wait
+        self.popped: List[Result] = []     # every result popped, in order
+        self.lab = False
+
+    # ------------------------------------------------------------ start
+    async def start(self):
+        d = self.dut
+        d.rst.value = 1
+        if self.bus_kind == 0:
+            self.bus = WishboneDriver(d)
+        else:
+            self.bus = AxiLiteDriver(d)
+        self.bus.idle_inputs()
+        for _ in range(4):
+            await RisingEdge(d.clk)
+        d.rst.value = 0
+        await RisingEdge(d.clk)
+        for m in self.monitors:
+            m.start()
+        for m in self.models:
+            if m is not None:
+                m.start()
+        if self.bus_kind == 1:
+            self.bus.start()
+        return self
+
+    # ------------------------------------------------------------ raw access
+    async def access(self, addr, data=None, sel=0xF, timeout_us=ACCESS_TIMEOUT_US):
+        """One 32-bit access: (read data or 0, True if it got a bus error)."""
+        return await with_timeout(self.bus.access(addr, data, sel), timeout_us, "us")
+
+    async def read32(self, addr):
+        return await self.access(addr)
+
+    async def write32(self, addr, value, sel=0xF):
+        _, err = await self.access(addr, value, sel)
+        return err
+
+    # ------------------------------------------------------------ by name
+    def reg(self, name, ch=None) -> regmap.Register:
+        return self.rm[name if ch is None else f"CH[{ch}].{name}"]
+
+    def addr(self, name, ch=None) -> int:
+        return self.reg(name, ch).address
+
+    async def read(self, name, ch=None) -> int:
+        value, err = await self.read32(self.addr(name, ch))
+        if err:
+            raise BusError(f"read {name} ch={ch}: bus error")
+        return value
+
+    async def write(self, name, value, ch=None, expect_err=False):
+        err = await self.write32(self.addr(name, ch), value)
+        if err != expect_err:
+            raise BusError(f"write {name} ch={ch} = {value:#010x}: "
+                           f"{'bus error' if err else 'acknowledged'}, expected "
+                           f"{'an error' if expect_err else 'an ack'}")
+        return err
+
+    def pack(self, name, ch=None, **fields) -> int:
+        reg = self.reg(name, ch)
+        v = 0
+        for k, x in fields.items():
+            v = reg.field(k).put(v, x)
+        return v
+
+    def unpack(self, name, value, ch=None) -> Dict[str, int]:
+        return {f.name: f.get(value) for f in self.reg(name, ch).fields}
+
+    async def fields(self, name, ch=None) -> types.SimpleNamespace:
+        return types.SimpleNamespace(**self.unpack(name, await self.read(name, ch), ch))
+
+    async def field(self, name, fname, ch=None) -> int:
+        return self.reg(name, ch).field(fname).get(await self.read(name, ch))
+
+    async def write_fields(self, name, ch=None, expect_err=False, **fields):
+        return await self.write(name, self.pack(name, ch, **fields), ch, expect_err)
+
+    async def errors(self) -> int:
+        return await self.read("ERRORS")
+
+    async def clear_errors(self):
+        await self.write("ERRORS", self.reg("ERRORS").woclr_mask)
+        assert await self.read("ERRORS") == 0
+
+    # ------------------------------------------------------------ timing
+    async def set_timing(self, ch, expect_refused=False, **us):
+        """Program phase durations (microseconds) of channel `ch`; unnamed
+        ones keep their value. With expect_refused the write must be refused
+        (ERRORS.VALUE_REFUSED, register unchanged)."""
+        new = dict(self.timing[ch])
+        new.update(us)
+        for rname in ("TIMING0", "TIMING1", "TIMING2"):
+            fl = {f: new[ph] for ph, (r, f) in TIMING_FIELDS.items() if r == rname}
+            cur = {f: self.timing[ch][ph] for ph, (r, f) in TIMING_FIELDS.items() if r == rname}
+            if fl == cur and not expect_refused:
+                continue
+            await self.write_fields(rname, ch, **fl)
+            got = self.unpack(rname, await self.read(rname, ch), ch)
+            if expect_refused:
+                assert got == cur, (rname, ch, fl, got)
+            else:
+                assert got == fl, (rname, ch, fl, got)
+        if not expect_refused:
+            self.timing[ch] = new
+
+    async def lab_unlock(self, flag=True):
+        await self.write("LAB_KEY", LAB_KEY if flag else 0)
+        assert await self.field("VERSION", "LAB_UNLOCKED") == int(flag)
+        self.lab = flag
+
+    async def lab_timing(self, channels=None):
+        """Lab-short phases on the given channels (default all): unlock, put
+        those monitors in lab mode, program LAB_TIMING."""
+        await self.lab_unlock(True)
+        for ch in (range(self.channels) if channels is None else channels):
+            self.monitors[ch].allow_out_of_spec(True)
+            await self.set_timing(ch, **LAB_TIMING)
+
+    # ------------------------------------------------------------ commands
+    async def push(self, cmd, payload=0x00AA, ch=0, tag=0, expect_err=False):
+        """CMD_PUSH one command; returns True when it was accepted."""
+        v = self.pack("CMD_PUSH", CMD=cmd, PAYLOAD=payload, CHANNEL=ch, TAG=tag)
+        err = await self.write32(self.addr("CMD_PUSH"), v)
+        if expect_err is not None and err != expect_err:
+            raise BusError(f"push cmd={cmd:#04x} ch={ch} tag={tag}: "
+                           f"{'refused' if err else 'accepted'}")
+        return not err
+
+    async def pop(self) -> Optional[Result]:
+        """RES_INFO then RES_POP; None when the FIFO is empty (VALID = 0)."""
+        info = self.unpack("RES_INFO", await self.read("RES_INFO"))
+        pop = self.unpack("RES_POP", await self.read("RES_POP"))
+        if not pop["VALID"]:
+            assert not info["VALID"], (info, pop)
+            return None
+        assert info["VALID"], (info, pop)
+        for k in ("STATUS", "CHANNEL", "TAG"):
+            assert info[k] == pop[k], f"RES_INFO {info} and RES_POP {pop} disagree on {k}"
+        r = Result(cmd=info["CMD"], data=pop["DATA"], status=pop["STATUS"],
+                   channel=pop["CHANNEL"], tag=pop["TAG"])
+        self.popped.append(r)
+        return r
+
+    async def drain(self) -> List[Result]:
+        """Pop whatever is in the result FIFO now."""
+        out = []
+        while True:
+            r = await self.pop()
+            if r is None:
+                return out
+            self.results.append(r)
+            out.append(r)
+
+    async def wait_results(self, n, timeout_ms=200, poll_us=250, pred=None) -> List[Result]:
+        """Wait until n results (matching pred) have been popped; they are
+        claimed (removed from self.results) and returned in pop order."""
+        pred = pred or (lambda r: True)
+        t_end = get_sim_time("us") + timeout_ms * 1000
+        while True:
+            got = [r for r in self.results if pred(r)]
+            if len(got) >= n:
+                got = got[:n]
+                for r in got:
+                    self.results.remove(r)
+                return got
+            if get_sim_time("us") > t_end:
+                raise AssertionError(f"only {len(got)} of {n} results after {timeout_ms} ms: {got}")
+            if not await self.drain():
+                await Timer(poll_us, "us")
+
+    async def wait_result(self, ch, tag, timeout_ms=100) -> Result:
+        return (await self.wait_results(1, timeout_ms,
+                                        pred=lambda r: r.channel == ch and r.tag == tag))[0]
+
+    async def command(self, cmd, payload=0x00AA, ch=0, tag=0, timeout_ms=100) -> Result:
+        await self.push(cmd, payload, ch, tag)
+        r = await self.wait_result(ch, tag, timeout_ms)
+        assert r.cmd == cmd, r
+        self.monitors[ch].check()
+        return r
+
+    async def wait_until(self, coro_fn, timeout_ms=100, poll_us=200):
+        """Poll an async predicate until it is true."""
+        t_end = get_sim_time("us") + timeout_ms * 1000
+        while not await coro_fn():
+            if get_sim_time("us") > t_end:
+                raise AssertionError(f"condition not met within {timeout_ms} ms")
+            await Timer(poll_us, "us")
+
+    async def wait_idle(self, timeout_ms=200):
+        """Every channel idle (STATUS.BUSY = 0, no slot full) and the command
+        FIFO empty."""
+        async def idle():
+            st = await self.fields("STATUS")
+            if st.BUSY or not st.CMD_EMPTY:
+                return False
+            for ch in range(self.channels):
+                s = await self.fields("STATE", ch)
+                if s.BUSY or s.SLOT_FULL:
+                    return False
+            return True
+        await self.wait_until(idle, timeout_ms)
+
+    # ------------------------------------------------------------ line views
+    def txns(self, ch):
+        """Transactions the spec monitor of channel ch saw (complete ones
+        and the one listening now)."""
+        return self.monitors[ch].transactions
+
+    def frames(self, ch):
+        return [bytes(t.frame) for t in self.txns(ch)]
+
+    # ------------------------------------------------------------ end
+    async def finish(self, expect_empty=True):
+        """End of test: every spec monitor is closed and checked, no model
+        saw the host drive the line while it answered, no result is left
+        unclaimed."""
+        errors = []
+        for ch, m in enumerate(self.monitors):
+            try:
+                m.finish()
+            except AssertionError as e:
+                errors.append(f"channel {ch}: {e}")
+        for ch, m in enumerate(self.models):
+            if m is not None:
+                m.stop()
+                coll = [t for t in m.log if t.collision]
+                if coll:
+                    errors.append(f"channel {ch}: host drove the line during {len(coll)} answer(s)")
+        if errors:
+            raise AssertionError("\n".join(errors))
+        if expect_empty:
+            assert not self.results, f"unclaimed results: {self.results}"
+            assert await self.pop() is None, "results left in the result FIFO"
