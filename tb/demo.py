@@ -13,6 +13,7 @@ out_dir = simrun.ROOT / "build" / "demo"
 out_dir.mkdir(parents=True, exist_ok=True)
 vcd = out_dir / "demo.vcd"
 simrun.run("tb_link", "demo_session", "demo", parameters={"CLK_HZ": 12_000_000},
-           tb_sources=["tb_link.v"], plusargs=[f"+vcd={vcd}"])
+           tb_sources=["tb_link.v"], plusargs=[f"+vcd={vcd}"], vcd=True,
+           extra_env={"COCOTB_LOG_LEVEL": "WARNING", "GPI_LOG_LEVEL": "WARNING"})
 shutil.copy(TB / "demo.gtkw", out_dir / "demo.gtkw")
 print(f"\nwaveform: {vcd} (make waves opens it in GTKWave)")

@@ -8,11 +8,21 @@ COCOTB_RANDOM_SEED=N.
 import os
 from pathlib import Path
 
-from cocotb_tools.runner import get_results, get_runner
+from cocotb_tools.runner import Icarus, get_results, get_runner
 
 ROOT = Path(__file__).resolve().parents[1]
 RTL_DIR = ROOT / "rtl"
 TB_DIR = ROOT / "tb"
+
+
+class _IcarusVcd(Icarus):
+    """The cocotb runner passes vvp `-none` (no waveform) unless it dumps an
+    FST of everything itself; this one lets the test bench's own $dumpfile
+    write a small VCD of chosen signals instead."""
+
+    def _test_command(self):
+        return [["-vcd" if arg == "-none" else arg for arg in cmd]
+                for cmd in super()._test_command()]
 
 
 def rtl_sources():
@@ -20,9 +30,9 @@ def rtl_sources():
 
 
 def run(toplevel, test_module, name, *, parameters=None, testcase=None,
-        tb_sources=(), plusargs=(), extra_env=None):
+        tb_sources=(), plusargs=(), extra_env=None, vcd=False):
     build_dir = ROOT / "build" / "sim" / name
-    runner = get_runner("icarus")
+    runner = _IcarusVcd() if vcd else get_runner("icarus")
     runner.build(
         sources=[*rtl_sources(), *(TB_DIR / s for s in tb_sources)],
         includes=[RTL_DIR],
