@@ -284,6 +284,30 @@ async def timing_lab_unlock(dut):
 
 
 @cocotb.test()
+async def power_rules(dut):
+    """The modelled sensor answers only after >= 7 ms of charge and when the
+    carrier holds long enough through execute, and a v15 firmware gives up
+    when execute exceeds 4.5 ms. Out-of-spec phases need the lab unlock."""
+    import periph_model as pm
+    tb, model, prof = await make_tb(dut, "o2_v15")
+    tb.monitor.allow_out_of_spec(True)
+    dut.cfg_unlock.value = 1
+    cases = [
+        (dict(charge=6500), Status.NO_RESPONSE, pm.R_CHARGE_SHORT),
+        (dict(charge=7000), Status.OK, pm.R_ANSWERED),
+        (dict(execute=prof.exec_min_us - 500), Status.NO_RESPONSE, pm.R_EXEC_SHORT),
+        (dict(execute=6000), Status.NO_RESPONSE, pm.R_EXEC_LONG),
+        (dict(execute=4500), Status.OK, pm.R_ANSWERED),
+    ]
+    for timing, status, reason in cases:
+        tb.set_timing(**timing)
+        res = await tb.command(0x41)
+        assert res.status == status, (timing, res)
+        assert model.log[-1].reason == reason, (timing, model.log[-1].reason)
+    await tb.finish()
+
+
+@cocotb.test()
 async def back_to_back(dut):
     """Queued commands run one after another with the turnaround between
     them, results in order with their tags."""
@@ -430,7 +454,7 @@ TESTS_12MHZ = [
     "commands_o2_v15", "commands_o2_v18", "commands_o2_v26", "commands_co2",
     "commands_co2_stick", "fault_statuses", "response_tolerance", "late_response",
     "glitches_during_listen", "stuck_line", "timing_clamped", "timing_lab_unlock",
-    "back_to_back", "result_backpressure", "idle_charge", "reset_mid_transaction",
+    "power_rules", "back_to_back", "result_backpressure", "idle_charge", "reset_mid_transaction",
     "frames_from_vectors",
 ]
 
