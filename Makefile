@@ -9,7 +9,7 @@ JOBS   ?= 2
 # the clocks the engine is linted at: each one elaborates different logic
 LINT_CLOCKS := 4000000 10500000 12000000 27000000 48000000 100000000 200000000
 
-.PHONY: all deps test lint pytest demo waves clean help regs check-regs
+.PHONY: all deps test lint pytest swtest demo waves clean help regs check-regs
 
 all: test
 
@@ -43,7 +43,11 @@ lint: deps
 pytest: deps
 	$(PY) -m pytest -n $(JOBS) tb
 
-test: check-regs lint pytest
+# the C driver: cmocka unit tests (plain and ASan/UBSan), Cortex-M0 size
+swtest: deps
+	$(MAKE) -C sw test size
+
+test: check-regs lint swtest pytest
 
 # Files generated from rdl/twh_regs.rdl (scripts/gen_regs.sh): committed, and
 # check-regs (part of test) fails when they are stale or the header does not
@@ -76,4 +80,4 @@ build/demo/demo.vcd:
 	$(MAKE) demo
 
 clean:
-	rm -rf build .pytest_cache tb/__pycache__
+	rm -rf build .pytest_cache tb/__pycache__ sw/build

@@ -211,7 +211,7 @@ module twh_core #(
                 assign slot_full8[n]   = slot_full[n];
                 assign c_res_valid8[n] = c_res_valid[n];
                 assign sample8[n]      = c_sample[n];
-                assign busy8[n]        = c_busy[n];
+                assign busy8[n]        = c_busy[n] || slot_full[n];
             end else begin : g_off
                 assign slot_full8[n]   = 1'b0;
                 assign c_res_valid8[n] = 1'b0;
@@ -270,7 +270,6 @@ module twh_core #(
                         ie_poll       <= reg_wdata[2];
                         res_threshold <= reg_wdata[15:8];
                     end
-                    R_POLL_READY:  poll_ready    <= poll_ready & ~reg_wdata[7:0];
                     R_LAB_KEY:     lab           <= (reg_wdata == `TWH_LAB_KEY);
                     R_FACTORY_KEY: factory_armed <= (reg_wdata == `TWH_FACTORY_KEY);
                     default: ;

@@ -7,13 +7,15 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 # command -> Debian package
-tools=(iverilog:iverilog vvp:iverilog verilator:verilator yosys:yosys make:make gcc:gcc)
+tools=(iverilog:iverilog vvp:iverilog verilator:verilator yosys:yosys make:make gcc:gcc
+       arm-none-eabi-gcc:gcc-arm-none-eabi arm-none-eabi-size:binutils-arm-none-eabi)
 [ "${1:-}" = "--waves" ] && tools+=(gtkwave:gtkwave)
 
 missing=()
 for pair in "${tools[@]}"; do
     command -v "${pair%%:*}" >/dev/null 2>&1 || missing+=("${pair##*:}")
 done
+[ -f /usr/include/cmocka.h ] || missing+=(libcmocka-dev)
 python3 -c 'import venv, ensurepip' >/dev/null 2>&1 || missing+=(python3-venv)
 command -v python3 >/dev/null 2>&1 || missing+=(python3)
 

@@ -27,7 +27,7 @@ from typing import Dict, List, Optional
 
 import cocotb
 from cocotb.simtime import get_sim_time
-from cocotb.triggers import ReadOnly, RisingEdge, Timer, with_timeout
+from cocotb.triggers import First, RisingEdge, Timer, with_timeout
 
 import profiles
 import regmap
@@ -132,18 +132,24 @@ class WishboneDriver:
                 break
         box.append(answers)
 
-    async def access(self, addr, data=None, sel=0xF):
+    async def cycle(self, ops):
+        """One bus cycle (cyc held) of several accesses, strobes back to
+        back: ops are (addr, data or None, sel); returns [(data, err)]."""
         box: list = []
         watcher = cocotb.start_soon(self._watch(box))
-        res = await self.master.send_cycle([self._WBOp(adr=addr, dat=data, sel=sel)])
+        res = await self.master.send_cycle(
+            [self._WBOp(adr=a, dat=d, sel=s) for a, d, s in ops])
         await watcher
-        if box and box[0] != 1:
-            self.violations.append(f"access {addr:#x}: {box[0]} answers to one strobe")
+        if not box or box[0] != len(ops) or len(res) != len(ops):
+            self.violations.append(f"cycle at {ops[0][0]:#x}: {box} answers, {len(res)} results "
+                                   f"for {len(ops)} strobes")
         if self.violations:
             raise AssertionError("Wishbone handshake: " + "; ".join(self.violations))
-        r = res[0]
-        value = int(r.datrd) if r.datrd is not None and r.datrd.is_resolvable else 0
-        return value, r.ack == 2
+        return [(int(r.datrd) if r.datrd is not None and r.datrd.is_resolvable else 0,
+                 r.ack == 2) for r in res]
+
+    async def access(self, addr, data=None, sel=0xF):
+        return (await self.cycle([(addr, data, sel)]))[0]
 
 
 class AxiLiteDriver:
@@ -177,7 +183,7 @@ class AxiLiteDriver:
             if not any(int(s.value) for s in (d.s_axil_awvalid, d.s_axil_wvalid,
                                                 d.s_axil_arvalid, d.s_axil_bvalid,
                                                 d.s_axil_rvalid)):
-                await First_any(d)
+                await _axil_activity(d)
             await clk
             aw = int(d.s_axil_awvalid.value) and int(d.s_axil_awready.value)
             w = int(d.s_axil_wvalid.value) and int(d.s_axil_wready.value)
@@ -213,7 +219,7 @@ class AxiLiteDriver:
         return value, resp == 2
 
 
-async def First_any(d):
+async def _axil_activity(d):
     from cocotb.triggers import First
     await First(RisingEdge(d.s_axil_awvalid), RisingEdge(d.s_axil_wvalid),
                 RisingEdge(d.s_axil_arvalid), RisingEdge(d.s_axil_bvalid),
@@ -480,7 +486,21 @@ class CoreTB:
                 if s.BUSY or s.SLOT_FULL:
                     return False
             return True
-        await self.wait_until(idle, timeout_ms)
+        try:
+            await self.wait_until(idle, timeout_ms)
+        except AssertionError:
+            raise AssertionError(f"not idle after {timeout_ms} ms: {await self.describe()}") from None
+
+    async def describe(self) -> str:
+        """The core's state in one line (for failure messages)."""
+        out = [f"STATUS {await self.fields('STATUS')}", f"LEVELS {await self.fields('LEVELS')}",
+               f"CTRL {await self.read('CTRL'):#x}"]
+        for ch in range(self.channels):
+            out.append(f"ch{ch}: STATE {await self.fields('STATE', ch)} "
+                       f"POLL_CTRL {await self.read('POLL_CTRL', ch):#010x} "
+                       f"T0 {await self.read('TIMING0', ch):#010x} T1 {await self.read('TIMING1', ch):#010x} "
+                       f"T2 {await self.read('TIMING2', ch):#010x} txns {len(self.txns(ch))}")
+        return "; ".join(out)
 
     # ------------------------------------------------------------ line views
     def txns(self, ch):

@@ -16,12 +16,11 @@ import random
 
 import cocotb
 import pytest
-from cocotb.simtime import get_sim_time
 from cocotb.triggers import Timer
 
 import protocol as p
 from coretb import (BLOCKED, CANCELLED, DEFAULT_TIMING, FACTORY_KEY, LAB_KEY,
-                    NO_RESPONSE, OK, TIMING_FIELDS, TXN_US, CoreTB)
+                    NO_RESPONSE, OK, TXN_US, CoreTB)
 from periph_model import Faults
 
 BLANK = 0x3FFF
@@ -68,7 +67,7 @@ async def regmap_access(dut):
     error and change nothing."""
     tb = await CoreTB(dut, cells=(None, None, None)).start()
     rm = tb.rm
-    assert tb.channels == 3
+    last = tb.channels - 1
     present = {r.address: r for r in rm.registers}
 
     async def snapshot():
@@ -223,11 +222,11 @@ async def regmap_access(dut):
     sels = (0x1, 0x3, 0x7, 0xE, 0xC, 0x8, 0x6) + ((0x0,) if tb.bus_kind == 0 else ())
     targets = [("CTRL", None, 0x0000FF00), ("IRQ_EN", None, 0x0000FF07),
                ("TIMING0", 0, tb.pack("TIMING0", 0, CHARGE_US=9000, SYNC_US=1100)),
-               ("POLL_CTRL", 2, tb.pack("POLL_CTRL", 2, CMD=0x41, INTERVAL_MS=5)),
+               ("POLL_CTRL", last, tb.pack("POLL_CTRL", last, CMD=0x41, INTERVAL_MS=5)),
                ("ERRORS", None, 0xFFFFFFFF), ("LAB_KEY", None, LAB_KEY),
                ("FACTORY_KEY", None, FACTORY_KEY),
                ("CMD_PUSH", None, tb.pack("CMD_PUSH", CMD=0x41, CHANNEL=0, TAG=3))]
-    await tb.write_fields("TIMING0", 1, CHARGE_US=100, SYNC_US=1000)       # refused: sets an error
+    await tb.write_fields("TIMING0", last, CHARGE_US=100, SYNC_US=1000)    # refused: sets an error
     before = await snapshot()
     assert before["ERRORS"] != 0
     for name, ch, value in targets:
@@ -238,6 +237,49 @@ async def regmap_access(dut):
     assert after == before, {k: (hex(before[k]), hex(after[k])) for k in before if before[k] != after[k]}
     await tb.clear_errors()
     assert await tb.pop() is None
+
+    if tb.bus_kind == 0:
+        # one Wishbone cycle of back-to-back strobes: each answered once,
+        # in order, with its own data or error
+        thr = tb.pack("IRQ_EN", RES_THRESHOLD=9)
+        hole = next(a for a in range(0, 0x200, 4) if a not in present)
+        ops = [(tb.addr("ID"), None, 0xF), (tb.addr("IRQ_EN"), thr, 0xF),
+               (tb.addr("IRQ_EN"), None, 0xF), (hole, None, 0xF), (tb.addr("PARAMS"), None, 0xF),
+               (tb.addr("IRQ_EN"), 0, 0x1), (tb.addr("IRQ_EN"), None, 0xF), (hole, 0, 0xF),
+               (tb.addr("ID"), None, 0xF)]
+        got = await tb.bus.cycle(ops)
+        want = [(tb.reg("ID").reset, False), (0, False), (thr, False), (0, True),
+                (tb.reg("PARAMS").reset, False), (0, True), (thr, False), (0, True),
+                (tb.reg("ID").reset, False)]
+        for (a, d, sel), g, w in zip(ops, got, want):
+            if d is None:
+                assert g == w, (hex(a), g, w)
+            else:
+                assert g[1] == w[1], (hex(a), g, w)
+        await tb.write("IRQ_EN", tb.reg("IRQ_EN").reset)
+    if tb.bus_kind == 1:
+        # reads and writes issued at once (AR beside AW/W): each is answered
+        # once, with its own data and response
+        m = tb.bus.master
+        id_addr, thr_addr = tb.addr("ID"), tb.addr("IRQ_EN")
+        hole = next(a for a in range(0, 0x200, 4) if a not in present)
+        ops = []
+        for k in range(12):
+            ops.append(("r", id_addr, cocotb.start_soon(m.read(id_addr, 4))))
+            ops.append(("w", thr_addr, cocotb.start_soon(
+                m.write(thr_addr, tb.pack("IRQ_EN", RES_THRESHOLD=k + 1).to_bytes(4, "little")))))
+            ops.append(("r", hole, cocotb.start_soon(m.read(hole, 4))))
+        for kind, a, task in ops:
+            r = await task
+            if a == hole:
+                assert int(r.resp) == 2, (kind, hex(a), r)
+            else:
+                assert int(r.resp) == 0, (kind, hex(a), r)
+                if kind == "r":
+                    assert int.from_bytes(r.data, "little") == tb.reg("ID").reset
+        tb.bus.n_access += len(ops)      # issued around the driver's count
+        assert await tb.field("IRQ_EN", "RES_THRESHOLD") == 12
+        await tb.write("IRQ_EN", tb.reg("IRQ_EN").reset)
     await tb.finish()
 
 
@@ -266,6 +308,9 @@ async def three_channels(dut):
     for ch, ex in execute.items():
         await tb.set_timing(ch, execute=ex)
     plans = {ch: plan_for(tb.profiles[ch], ch) for ch in range(3)}
+    # channel 2 keeps its carrier on while idle (IDLE_CHARGE), the others
+    # release the line
+    await tb.write_fields("CTRL", ENABLE=1, IDLE_CHARGE=0b100)
     pushed = []
     for i in range(4):
         for ch in range(3):
@@ -304,6 +349,10 @@ async def three_channels(dut):
         for t in tb.txns(ch)[:-1]:
             assert 2000 <= t.turnaround_us < 2010, (ch, t.turnaround_us)
     assert await tb.errors() == 0
+    # after the last turnaround: ch2 charging, ch0 and ch1 released
+    await tb.wait_idle()
+    await Timer(100, "us")
+    assert [int(getattr(dut, f"line_oe_{ch}").value) for ch in range(3)] == [0, 0, 1]
     await tb.finish()
 
 
@@ -370,6 +419,11 @@ async def fifo_edges(dut):
     assert lv.RES_LEVEL == depth, lv
     st = await tb.fields("STATUS")
     assert st.RES_FULL == 1 and st.RES_EMPTY == 0, st
+    # STATUS.BUSY: "a transaction is queued in the channel or running"
+    for ch in range(nch):
+        s = await tb.fields("STATE", ch)
+        if s.SLOT_FULL:
+            assert (st.BUSY >> ch) & 1, f"ch{ch}: command waiting in the slot, STATUS.BUSY = {st.BUSY:#x}"
 
     # ---- pop everything: every command exactly once, in order per channel
     results = await tb.wait_results(total, timeout_ms=total * 4)
@@ -537,9 +591,11 @@ async def polling(dut):
         await tb.clear_errors()
     assert len(tb.txns(0)) == 0
 
-    # ---- poll 0x44 every 1 ms (always due) with three queued commands
+    # ---- poll 0x44 with INTERVAL_MS = 0 (acts as 1 ms: always due) beside
+    # three queued commands
     await tb.write_fields("IRQ_EN", POLL=1, RES_THRESHOLD=1)
-    await tb.write_fields("POLL_CTRL", 0, CMD=0x44, PAYLOAD=0xAA, INTERVAL_MS=1, EN=1)
+    await tb.write_fields("POLL_CTRL", 0, CMD=0x44, PAYLOAD=0xAA, INTERVAL_MS=0, EN=1)
+    assert await tb.field("POLL_CTRL", "INTERVAL_MS", 0) == 0   # rw: reads as written
     pushed = []
     for tag in (1, 2, 3):
         await tb.push(0x41, ch=0, tag=tag)
@@ -609,9 +665,10 @@ async def random_traffic(dut):
     partial byte enables): every access is answered in time, unmapped ones
     and partial writes with an error, the core does not lock up, and a
     normal command works afterwards."""
-    seed = int(os.environ.get("TWH_SEED", random.randrange(1 << 32)))
+    # replay: TWH_SEED=N, or COCOTB_RANDOM_SEED=N (cocotb seeds `random`)
+    seed = int(os.environ.get("TWH_SEED") or random.getrandbits(32))
     n = int(os.environ.get("TWH_RANDOM_ACCESSES", "3000"))
-    dut._log.info("random_traffic: TWH_SEED=%d, %d accesses", seed, n)
+    dut._log.info("random_traffic: seed TWH_SEED=%d, %d accesses", seed, n)
     rng = random.Random(seed)
     tb = await CoreTB(dut, cells=("o2_v18", "o2_v15", "co2")).start()
     rm = tb.rm
@@ -680,7 +737,7 @@ async def random_traffic(dut):
 # ============================================================== 8. IRQ, flush
 @cocotb.test()
 async def irq_and_flush(dut):
-    """IRQ: result-level threshold (0 behaves as 1), error, enables gate the
+    """IRQ: result-level threshold (0 acts as 1), error, enables gate the
     raw sources. FLUSH: queued commands come back CANCELLED in order, the
     running ones finish; nothing is lost."""
     tb = await CoreTB(dut, cells=(None, None, None)).start()
@@ -699,8 +756,7 @@ async def irq_and_flush(dut):
     assert dut.irq.value == 0 and (await tb.fields("IRQ_STATUS")).RESULT == 0
     await tb.write_fields("IRQ_EN", RESULT=1, RES_THRESHOLD=0)     # 0 behaves as 1
     assert dut.irq.value == 1
-    thr = await tb.field("IRQ_EN", "RES_THRESHOLD")
-    assert thr in (0, 1), thr
+    assert await tb.field("IRQ_EN", "RES_THRESHOLD") == 0      # rw: reads as written
     await tb.write_fields("IRQ_EN", RESULT=0, RES_THRESHOLD=1)
     assert dut.irq.value == 0 and (await tb.fields("IRQ_STATUS")).RESULT == 1
     await tb.drain()
@@ -765,7 +821,54 @@ async def irq_and_flush(dut):
     # after the flush commands run normally
     r = await tb.command(0x42, ch=0, tag=26, timeout_ms=20)
     assert r.status == NO_RESPONSE, r
+
+    # ---- ENABLE = 0 mid-transaction: the running one finishes, the next
+    # waits in the slot (queued: STATUS.BUSY), nothing starts, no poll runs
+    await tb.push(0x40, ch=2, tag=27)
+    await tb.push(0x43, ch=2, tag=28)
+    await tb.wait_until(lambda: _running(tb, (2,)), timeout_ms=10, poll_us=20)
+    await tb.write_fields("CTRL", ENABLE=0)
+    await tb.write_fields("POLL_CTRL", 2, CMD=0x41, PAYLOAD=0xAA, INTERVAL_MS=1, EN=1)
+    r = await tb.wait_result(2, 27, timeout_ms=10)
+    assert r.status == NO_RESPONSE, r
+    n2 = len(tb.txns(2))
+    await Timer(5, "ms")
+    assert len(tb.txns(2)) == n2, "a transaction or poll started with ENABLE = 0"
+    assert (await tb.fields("POLL_RESULT", 2)).COUNT == 0
+    s = await tb.fields("STATE", 2)
+    assert s.SLOT_FULL == 1 and s.PHASE == 0, s
+    busy = await tb.field("STATUS", "BUSY")
+    # enabled again: the queued command and the polls run
+    await tb.write_fields("CTRL", ENABLE=1)
+    r = await tb.wait_result(2, 28, timeout_ms=20)
+    assert r.status == NO_RESPONSE and r.cmd == 0x43, r
+    await tb.wait_until(lambda: _polls(tb, 2, 2), timeout_ms=20)
+    await tb.write_fields("POLL_CTRL", 2, CMD=0x41, PAYLOAD=0xAA, INTERVAL_MS=1, EN=0)
+    await tb.wait_idle()
+    pr = await tb.fields("POLL_RESULT", 2)
+    assert pr.STATUS == NO_RESPONSE and pr.DATA == 0, pr
+    assert pr.COUNT == sum(1 for f in tb.frames(2)[n2:] if f[0] == 0x41), (pr, tb.frames(2))
+    assert await tb.read("POLL_READY") == 0b100
+    await tb.write("POLL_READY", 0b100)
+    assert await tb.errors() == 0, "NO_RESPONSE polls set an error"
+
+    # ---- a push while FLUSHING is still draining (the head waits for a busy
+    # channel): is it cancelled too? (RDL: the flush cancels the commands
+    # "still in the command FIFO" when it is written)
+    for ch, tag in ((0, 1), (0, 2), (0, 3)):
+        await tb.push(0x41, ch=ch, tag=tag)
+    await tb.wait_until(lambda: _running(tb, (0,)), timeout_ms=10, poll_us=20)
+    await tb.write_fields("CTRL", ENABLE=1, FLUSH=1)
+    assert (await tb.fields("STATUS")).FLUSHING == 1
+    await tb.push(0x42, ch=1, tag=4)
+    res = await tb.wait_results(4, timeout_ms=20)
+    late = [r for r in res if r.tag == 4][0]
+    dut._log.warning("push during FLUSHING: result status %d (%s)", late.status,
+                     "cancelled" if late.status == CANCELLED else "ran")
+    assert late.status != CANCELLED, "a command pushed after the flush was cancelled by it"
     assert await tb.errors() == 0, "CANCELLED results set an error bit"
+    # checked last so that the rest of the test runs first
+    assert busy & 0b100, f"command queued in ch2's slot (ENABLE = 0), STATUS.BUSY = {busy:#x}"
     await tb.finish()
 
 
@@ -774,6 +877,10 @@ async def _running(tb, channels):
         if (await tb.fields("STATE", ch)).PHASE == 0:
             return False
     return True
+
+
+async def _polls(tb, ch, n):
+    return (await tb.fields("POLL_RESULT", ch)).COUNT >= n
 
 
 async def _level_is(tb, n):
@@ -787,7 +894,7 @@ CORE_SOURCES = ["tb_core.v"]
 
 
 def run_core(testcase, bus, clk_hz=12_000_000, channels=3, fifo_depth=16, env=None):
-    name = f"core_{testcase}_{'wb' if bus == 0 else 'axil'}"
+    name = f"core_{testcase}_{'wb' if bus == 0 else 'axil'}_{channels}ch"
     extra = {"TWH_BUS": str(bus), "TWH_CHANNELS": str(channels),
              "TWH_FIFO_DEPTH": str(fifo_depth), "TWH_CLK_HZ": str(clk_hz)}
     extra.update(env or {})
@@ -797,24 +904,28 @@ def run_core(testcase, bus, clk_hz=12_000_000, channels=3, fifo_depth=16, env=No
                testcase=testcase, tb_sources=CORE_SOURCES, extra_env=extra)
 
 
-# (testcase, bus, clk_hz, fifo_depth)
+# (testcase, bus, clk_hz, channels, fifo_depth)
 CASES = [
-    ("regmap_access", 0, 12_000_000, 16),
-    ("regmap_access", 1, 4_000_000, 16),
-    ("three_channels", 0, 4_000_000, 16),
-    ("fifo_edges", 0, 12_000_000, 16),
-    ("fifo_edges", 1, 4_000_000, 4),
-    ("factory_protection", 0, 4_000_000, 16),
-    ("timing_registers", 0, 4_000_000, 16),
-    ("polling", 0, 4_000_000, 16),
-    ("random_traffic", 0, 12_000_000, 16),
-    ("random_traffic", 1, 4_000_000, 8),
-    ("irq_and_flush", 1, 4_000_000, 16),
+    ("regmap_access", 0, 12_000_000, 3, 16),
+    ("regmap_access", 1, 4_000_000, 3, 16),
+    ("regmap_access", 0, 4_000_000, 1, 4),
+    ("three_channels", 0, 4_000_000, 3, 16),
+    ("fifo_edges", 0, 12_000_000, 3, 16),
+    ("fifo_edges", 1, 4_000_000, 3, 4),
+    ("factory_protection", 0, 4_000_000, 3, 16),
+    ("timing_registers", 0, 4_000_000, 3, 16),
+    ("polling", 0, 4_000_000, 3, 16),
+    ("random_traffic", 0, 12_000_000, 3, 16),
+    ("random_traffic", 1, 4_000_000, 3, 8),
+    ("irq_and_flush", 1, 4_000_000, 3, 16),
 ]
 
 
-@pytest.mark.parametrize("testcase,bus,clk_hz,fifo_depth", CASES,
-                         ids=[f"{c[0]}-{'wb' if c[1] == 0 else 'axil'}" for c in CASES])
-def test_core(testcase, bus, clk_hz, fifo_depth):
+def _id(c):
+    return f"{c[0]}-{'wb' if c[1] == 0 else 'axil'}-{c[3]}ch-{c[2] // 1_000_000}MHz-d{c[4]}"
+
+
+@pytest.mark.parametrize("testcase,bus,clk_hz,channels,fifo_depth", CASES, ids=[_id(c) for c in CASES])
+def test_core(testcase, bus, clk_hz, channels, fifo_depth):
     env = {"TWH_RANDOM_ACCESSES": "1000"} if (testcase == "random_traffic" and bus == 1) else None
-    run_core(testcase, bus, clk_hz=clk_hz, fifo_depth=fifo_depth, env=env)
+    run_core(testcase, bus, clk_hz=clk_hz, channels=channels, fifo_depth=fifo_depth, env=env)

@@ -127,8 +127,8 @@ typedef struct twh {
     uint8_t  version_major;
     uint8_t  version_minor;
     uint8_t  next_tag;
-    uint8_t  stash_count;
-    uint8_t  reserved;
+    uint8_t  stash_head;     /* stash: ring of results popped while a  */
+    uint8_t  stash_count;    /* blocking helper waited; oldest at head */
     twh_result_t stash[TWH_STASH_SIZE];
 } twh_t;
 
@@ -267,9 +267,12 @@ int  twh_decode_datetime(uint16_t w0, uint16_t w1, twh_datetime_t *dt);
 /* n_words words -> out[2*n_words+1]; stops at a blank word, strips trailing
  * NUL/space */
 void twh_decode_text(const uint16_t *words, uint8_t n_words, char *out);
-/* records with both words programmed in [0x20, min(0xE0, n)); the current
- * one (largest stamp, ties -> higher address) into *current (addr 0: none) */
-uint16_t twh_cal_scan(const uint16_t *words, uint16_t n, twh_cal_t *current);
+/* Field calibration records (both words programmed) in [0x20, min(0xE0, n)):
+ * returns their number; the current one (largest stamp, ties -> higher
+ * address) goes to *current (addr 0: none); with list != NULL the first
+ * `max` records, in address order, go to list[]. */
+uint16_t twh_cal_scan(const uint16_t *words, uint16_t n, twh_cal_t *current,
+                      twh_cal_t *list, uint16_t max);
 /* whole image (n = flash size, 0x20..0x200 words) of kind TWH_MAP_* */
 int  twh_decode_map(const uint16_t *words, uint16_t n, uint8_t kind, twh_map_t *m);
 

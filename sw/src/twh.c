@@ -91,6 +91,7 @@ int twh_init(twh_t *t, const twh_platform_t *plat)
     t->timeout_us = TWH_TIMEOUT_US_DEFAULT;
     t->poll_us = TWH_POLL_US_DEFAULT;
     t->next_tag = 0;
+    t->stash_head = 0;
     t->stash_count = 0;
     t->channels = 0;            /* refuses every submit until the probe passes */
     if (rd(t, REG(ID)) != TWH_REGS__ID__MAGIC_reset)
@@ -150,16 +151,26 @@ static int pop(twh_t *t, uint32_t info, twh_result_t *r)
     return TWH_OK;
 }
 
+/* field by field: a struct assignment may become a memcpy call, and the
+ * driver links without libc */
+static void copy_res(twh_result_t *d, const twh_result_t *s)
+{
+    d->data = s->data;
+    d->cmd = s->cmd;
+    d->status = s->status;
+    d->channel = s->channel;
+    d->tag = s->tag;
+}
+
 int twh_result(twh_t *t, twh_result_t *r)
 {
     uint32_t info;
-    uint8_t i;
 
-    if (t->stash_count) {
-        *r = t->stash[0];
+    if (t->stash_count) {                    /* ring: oldest at stash_head */
+        copy_res(r, &t->stash[t->stash_head]);
+        if (++t->stash_head >= TWH_STASH_SIZE)
+            t->stash_head = 0;
         t->stash_count--;
-        for (i = 0; i < t->stash_count; i++)
-            t->stash[i] = t->stash[i + 1];
         return TWH_OK;
     }
     info = rd(t, REG(RES_INFO));
@@ -197,7 +208,8 @@ static int wait_own(twh_t *t, uint8_t ch, uint8_t cmd, uint8_t tag, uint16_t *da
                 *data = r.data;
                 return twh_status_err(r.status, cmd);
             }
-            t->stash[t->stash_count++] = r;
+            w = (uint32_t)t->stash_head + t->stash_count++;
+            copy_res(&t->stash[w < TWH_STASH_SIZE ? w : w - TWH_STASH_SIZE], &r);
             continue;
         }
         if (waited >= t->timeout_us)
@@ -387,13 +399,13 @@ int twh_negotiate(twh_t *t, uint8_t ch, twh_fw_t *fw)
     twh_fw_t f;
     int rc = twh_set_execute_us(t, ch, TWH_EXECUTE_SAFE_US);
 
+    if (!fw)
+        fw = &f;
     if (!rc)
-        rc = twh_firmware(t, ch, &f);
+        rc = twh_firmware(t, ch, fw);
     if (rc)
         return rc;
-    if (fw)
-        *fw = f;
-    return twh_set_execute_us(t, ch, twh_execute_us_for(&f));
+    return twh_set_execute_us(t, ch, twh_execute_us_for(fw));
 }
 
 /* ------------------------------------------------------------ calibration */

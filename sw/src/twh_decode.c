@@ -2,6 +2,7 @@
  * The same rules as tb/protocol.py and tb/flashmap.py; the shared vectors in
  * tb/vectors/ check that they agree. Integers only; every division truncates
  * toward zero (C semantics). */
+#include <stddef.h>
 #include <stdint.h>
 
 #include "twh.h"
@@ -95,7 +96,8 @@ void twh_decode_text(const uint16_t *words, uint8_t n_words, char *out)
 }
 
 /* ------------------------------------------------------------ calibrations */
-uint16_t twh_cal_scan(const uint16_t *words, uint16_t n, twh_cal_t *current)
+uint16_t twh_cal_scan(const uint16_t *words, uint16_t n, twh_cal_t *current,
+                      twh_cal_t *list, uint16_t max)
 {
     uint16_t end = n < TWH_CAL_END ? n : TWH_CAL_END, a, s, v, count = 0;
 
@@ -106,6 +108,11 @@ uint16_t twh_cal_scan(const uint16_t *words, uint16_t n, twh_cal_t *current)
         /* a record counts only when both words are programmed */
         if (s == TWH_BLANK || v == TWH_BLANK)
             continue;
+        if (list && count < max) {
+            list[count].addr = a;
+            list[count].stamp = s;
+            list[count].value = v;
+        }
         count++;
         if (!current->addr || s >= current->stamp) {  /* ties -> higher address */
             current->addr = a;
@@ -161,6 +168,6 @@ int twh_decode_map(const uint16_t *words, uint16_t n, uint8_t kind, twh_map_t *m
         m->has_rgb_gain = triple(words + 0x1C, m->rgb_gain);
     }
     m->cal_unit_hours = o2 ? 3u : 6u;
-    m->cal_count = twh_cal_scan(words, n, &m->current);
+    m->cal_count = twh_cal_scan(words, n, &m->current, NULL, 0);
     return TWH_OK;
 }
