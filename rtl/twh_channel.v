@@ -5,8 +5,9 @@
 // - Timing writes are refused as a whole when a field lies outside the spec
 //   window (unless the lab unlock is on): the register keeps its value and
 //   `value_refused` pulses. The engine clamps as well, as a last defence.
-// - Poll writes are refused unless the command is read-only (0x40-0x44,
-//   0x46-0x49): a poller must never erase or write a sensor's flash.
+// - A poll write that switches polling on is refused unless the command is
+//   read-only (0x40-0x44, 0x46-0x49): a poller must never erase or write a
+//   sensor's flash. Switching it off is always accepted.
 // - When a queued command and a due poll both wait for the engine they take
 //   turns, so neither can starve the other.
 // - Poll results update POLL_RESULT here and never reach the result FIFO;
@@ -81,7 +82,10 @@ module twh_channel #(
     wire ok2 = lab || (in_window(w_lo, `TWH_LISTEN_MIN, `TWH_US_MAX) &&
                        in_window(w_hi, `TWH_TURNAROUND_MIN, `TWH_US_MAX));
     wire [7:0] w_cmd = wdata[7:0];
-    wire ok_poll = (w_cmd >= 8'h40 && w_cmd <= 8'h44) || (w_cmd >= 8'h46 && w_cmd <= 8'h49);
+    // the command is checked only when polling is switched on, so writing 0
+    // always stops polling
+    wire ok_poll = !wdata[31] ||
+                   (w_cmd >= 8'h40 && w_cmd <= 8'h44) || (w_cmd >= 8'h46 && w_cmd <= 8'h49);
 
     always @(posedge clk) begin
         if (rst) begin

@@ -98,7 +98,9 @@ module twh_core #(
     wire mapped   = g_mapped || ch_exists;
 
     // ------------------------------------------------------------ control registers
-    reg        enable, flushing, lab, factory_armed;
+    reg        enable, lab, factory_armed;
+    reg [LW-1:0] flush_left;    // queued commands a flush still has to cancel
+    wire       flushing = (flush_left != {LW{1'b0}});
     reg [7:0]  idle_charge;
     reg        ie_result, ie_error, ie_poll;
     reg [7:0]  res_threshold;
@@ -234,7 +236,7 @@ module twh_core #(
     always @(posedge clk) begin
         if (rst) begin
             enable          <= 1'b1;
-            flushing        <= 1'b0;
+            flush_left      <= {LW{1'b0}};
             lab             <= 1'b0;
             factory_armed   <= 1'b0;
             idle_charge     <= 8'd0;
@@ -249,12 +251,14 @@ module twh_core #(
             err_link        <= 1'b0;
             poll_ready      <= 8'd0;
         end else begin
-            if (flushing && cmd_empty) flushing <= 1'b0;
+            // A flush cancels exactly the commands queued when it is written;
+            // commands pushed after it run normally.
+            if (dispatch && flushing) flush_left <= flush_left - 1'b1;
             if (wr && !is_ch) begin
                 case (g_reg)
                     R_CTRL: begin
                         enable      <= reg_wdata[0];
-                        if (reg_wdata[1]) flushing <= 1'b1;
+                        if (reg_wdata[1]) flush_left <= cmd_level - {{(LW-1){1'b0}}, dispatch};
                         idle_charge <= reg_wdata[15:8];
                     end
                     R_ERRORS: begin

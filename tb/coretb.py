@@ -474,10 +474,13 @@ class CoreTB:
                 raise AssertionError(f"condition not met within {timeout_ms} ms")
             await Timer(poll_us, "us")
 
-    async def wait_idle(self, timeout_ms=200):
+    async def wait_idle(self, timeout_ms=200, drain=False):
         """Every channel idle (STATUS.BUSY = 0, no slot full) and the command
-        FIFO empty."""
+        FIFO empty. With drain, results are popped meanwhile (into
+        self.results), so a full result FIFO cannot hold the engines."""
         async def idle():
+            if drain:
+                await self.drain()
             st = await self.fields("STATUS")
             if st.BUSY or not st.CMD_EMPTY:
                 return False

@@ -717,7 +717,7 @@ async def random_traffic(dut):
         await tb.set_timing(ch, **DEFAULT_TIMING)
     await tb.write("IRQ_EN", 0)
     await tb.write_fields("CTRL", ENABLE=1, FLUSH=1)
-    await tb.wait_idle(timeout_ms=400)
+    await tb.wait_idle(timeout_ms=400, drain=True)
     await tb.drain()
     tb.results.clear()
     await tb.write("POLL_READY", 0xFF)

@@ -52,51 +52,10 @@ def get(reg, field, word):
 
 
 # ---------------------------------------------------------------- ctypes API
-READ32 = C.CFUNCTYPE(C.c_uint32, C.c_void_p, C.c_uint32)
-WRITE32 = C.CFUNCTYPE(None, C.c_void_p, C.c_uint32, C.c_uint32)
-DELAY = C.CFUNCTYPE(None, C.c_void_p, C.c_uint32)
-WAIT_IRQ = C.CFUNCTYPE(C.c_uint32, C.c_void_p, C.c_uint32)
-
-
-class Platform(C.Structure):
-    _fields_ = [("read32", READ32), ("write32", WRITE32), ("delay_us", DELAY),
-                ("wait_irq", WAIT_IRQ), ("ctx", C.c_void_p)]
-
-
-class Result(C.Structure):
-    _fields_ = [("data", C.c_uint16), ("cmd", C.c_uint8), ("status", C.c_uint8),
-                ("channel", C.c_uint8), ("tag", C.c_uint8)]
-
-
-STASH_SIZE = 4  # TWH_STASH_SIZE default
-
-
-class Twh(C.Structure):
-    _fields_ = [("plat", Platform), ("timeout_us", C.c_uint32), ("poll_us", C.c_uint32),
-                ("clk_khz", C.c_uint32), ("fifo_depth", C.c_uint16), ("channels", C.c_uint8),
-                ("version_major", C.c_uint8), ("version_minor", C.c_uint8),
-                ("next_tag", C.c_uint8), ("stash_head", C.c_uint8), ("stash_count", C.c_uint8),
-                ("stash", Result * STASH_SIZE)]
-
-
-class Datetime(C.Structure):
-    _fields_ = [("year", C.c_uint16), ("month", C.c_uint8), ("day", C.c_uint8),
-                ("hour", C.c_uint8), ("minute", C.c_uint8)]
-
-
-class Cal(C.Structure):
-    _fields_ = [("addr", C.c_uint16), ("stamp", C.c_uint16), ("value", C.c_uint16)]
-
-
-class Map(C.Structure):
-    _fields_ = [("model", C.c_char * 15), ("mfg_id", C.c_char * 7), ("serial", C.c_char * 13),
-                ("kind", C.c_uint8), ("manufactured", Datetime), ("expires", Datetime),
-                ("size", C.c_uint16), ("temp_scale", C.c_uint16), ("ref_temp", C.c_uint16),
-                ("adc_ref", C.c_uint16), ("map_version", C.c_uint8), ("map_type", C.c_uint8),
-                ("opamp_offset", C.c_int16), ("mfg_cal", (C.c_uint16 * 2) * 3),
-                ("rgb_offset", C.c_uint16 * 3), ("rgb_gain", C.c_uint16 * 3),
-                ("has_rgb_offset", C.c_uint8), ("has_rgb_gain", C.c_uint8),
-                ("cal_unit_hours", C.c_uint16), ("cal_count", C.c_uint16), ("current", Cal)]
+# the project's one ctypes binding of the driver lives in tb/
+sys.path.insert(0, os.path.join(REPO, "tb"))
+from twh_ctypes import (DELAY, READ32, WAIT_IRQ, WRITE32, Map, Platform,  # noqa: E402
+                        Result, Twh)
 
 
 def main(libpath):

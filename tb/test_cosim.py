@@ -1,0 +1,105 @@
+"""Co-simulation: the C driver (sw/, built as libtwh.so) drives the Wishbone
+core with three modelled cells, through ctypes and cocotb's bridge/resume
+(tb/cosim.py). Every transaction is watched by the spec monitors."""
+import ctypes as C
+import subprocess
+
+import cocotb
+import pytest
+from cocotb.triggers import Timer
+
+import simrun
+import twh_ctypes as T
+from coretb import CoreTB
+from cosim import Cosim
+
+E = T.ERR
+
+
+async def start(dut, cells):
+    tb = await CoreTB(dut, cells=cells).start()
+    cs = Cosim(tb)
+    assert await cs.init() == 0
+    assert cs.t.channels == 3
+    return tb, cs
+
+
+@cocotb.test()
+async def driver_session(dut):
+    """Negotiation per firmware, every read helper, write with verify, and
+    the driver's own refusal to touch the factory area."""
+    tb, cs = await start(dut, ("o2_v18", "o2_v15", "co2"))
+    expect_exec = {0: 6000, 1: 4000, 2: 6000}          # v18, v15, CO2 fw 0x12
+    for ch in range(3):
+        prof = tb.profiles[ch]
+        rc, fw = await cs.negotiate(ch)
+        assert rc == 0 and fw.raw == prof.fw_byte and fw.type == prof.type_byte, (ch, rc)
+        assert await tb.field("TIMING1", "EXECUTE_US", ch) == expect_exec[ch], ch
+        bits, words = C.c_uint8(), C.c_uint16()
+        assert await cs.call("twh_config", C.byref(cs.t), ch, C.byref(bits), C.byref(words)) == 0
+        assert words.value == prof.flash_size, (ch, words.value)
+    assert await cs.get16("twh_o2_voltage", 0) == (0, tb.profiles[0].adc_o2)
+    assert await cs.get16("twh_temperature", 1) == (0, tb.profiles[1].adc_temperature)
+    assert await cs.get16("twh_ref_voltage", 2) == (0, tb.profiles[2].adc_ref_voltage)
+    assert await cs.get16("twh_read_word", 0, 0x10) == (0, tb.profiles[0].flash[0x10])
+    # write with verify on a blank word of the v18 cell
+    model = tb.models[0]
+    free = next(a for a in range(0x20, 0xE0) if model.flash[a] == 0x3FFF)
+    assert await cs.call("twh_write_word", C.byref(cs.t), 0, free, 0x0ACE) == 0
+    assert model.flash[free] == 0x0ACE
+    # a second write to the same (now programmed) word fails its verify
+    assert await cs.call("twh_write_word", C.byref(cs.t), 0, free, 0x0123) == E["VERIFY"]
+    # the factory area is refused before anything reaches the bus
+    before = (cs.accesses, len(model.log))
+    assert await cs.call("twh_write_word", C.byref(cs.t), 0, 0x05, 0x0001) == E["BAD_ARG"]
+    assert await cs.call("twh_erase_page", C.byref(cs.t), 0, 0x10) == E["BAD_ARG"]
+    assert (cs.accesses, len(model.log)) == before
+    assert cs.irq_waits > 0, "the driver never waited on the interrupt"
+    await tb.finish()
+
+
+@cocotb.test()
+async def driver_errors(dut):
+    """No response, a timeout whose late result is still delivered, and a
+    calibration append into a full area (oldest page erased first)."""
+    tb, cs = await start(dut, ("o2_v18", "o2_v15", None))
+    # channel 2 has no sensor: a read gets no response
+    assert (await cs.get16("twh_read_word", 2, 0x00))[0] == E["NO_RESPONSE"]
+    # a timeout shorter than a transaction; the result arrives later, intact
+    cs.t.timeout_us = 5000
+    assert (await cs.get16("twh_o2_voltage", 1))[0] == E["TIMEOUT"]
+    cs.t.timeout_us = 200_000
+    await Timer(30, "ms")
+    res = T.Result()
+    assert await cs.call("twh_result", C.byref(cs.t), C.byref(res)) == 0
+    assert (res.cmd, res.channel, res.status, res.data) == \
+        (0x44, 1, 0, tb.profiles[1].adc_o2)
+    # fill the v18 cell's calibration area (0x20-0xDF): stamps rise with the
+    # address except in page 0x40, which holds the oldest records
+    flash = tb.models[0].flash
+    for i, a in enumerate(range(0x20, 0xE0, 2)):
+        flash[a] = 10 + i if not 0x40 <= a < 0x50 else 1 + (a - 0x40) // 2
+        flash[a + 1] = 3600
+    addr = C.c_uint16()
+    rc = await cs.call("twh_cal_append", C.byref(cs.t), 0, 500, 3700, C.byref(addr))
+    assert rc == 0, T.ERRORS.get(rc, rc)
+    assert addr.value == 0x40, hex(addr.value)
+    assert flash[0x40:0x42] == [500, 3700]
+    assert all(w == 0x3FFF for w in flash[0x42:0x50])          # rest of the erased page
+    assert flash[0x20] == 10 and flash[0x50] != 0x3FFF         # other pages untouched
+    await tb.finish()
+
+
+@pytest.fixture(scope="session")
+def libtwh():
+    subprocess.run(["make", "-s", "-C", str(simrun.ROOT / "sw"), "shared"], check=True)
+    return T.LIB_PATH
+
+
+@pytest.mark.parametrize("testcase", ["driver_session", "driver_errors"])
+def test_cosim(libtwh, testcase):
+    simrun.run("tb_core", "test_cosim", f"cosim_{testcase}",
+               parameters={"CLK_HZ": 4_000_000, "CHANNELS": 3, "FIFO_DEPTH": 16, "BUS": 0},
+               testcase=testcase, tb_sources=["tb_core.v"],
+               extra_env={"TWH_CLK_HZ": "4000000", "TWH_CHANNELS": "3",
+                          "TWH_FIFO_DEPTH": "16", "TWH_BUS": "0"})
