@@ -2,12 +2,14 @@
 core with three modelled cells, through ctypes and cocotb's bridge/resume
 (tb/cosim.py). Every transaction is watched by the spec monitors."""
 import ctypes as C
+import dataclasses
 import subprocess
 
 import cocotb
 import pytest
 from cocotb.triggers import Timer
 
+import profiles
 import simrun
 import twh_ctypes as T
 from coretb import CoreTB
@@ -62,7 +64,12 @@ async def driver_session(dut):
 async def driver_errors(dut):
     """No response, a timeout whose late result is still delivered, and a
     calibration append into a full area (oldest page erased first)."""
-    tb, cs = await start(dut, ("o2_v18", "o2_v15", None))
+    # channel 0: an O2 cell with a 64-word flash, so a full calibration area
+    # is 16 records (the driver reads every record's stamp to find the oldest)
+    small = dataclasses.replace(profiles.O2_V18, name="o2_v18_64w",
+                                flash=profiles.O2_V18.flash[:64])
+    profiles.PROFILES[small.name] = small
+    tb, cs = await start(dut, (small.name, "o2_v15", None))
     # channel 2 has no sensor: a read gets no response
     assert (await cs.get16("twh_read_word", 2, 0x00))[0] == E["NO_RESPONSE"]
     # a timeout shorter than a transaction; the result arrives later, intact
@@ -74,19 +81,19 @@ async def driver_errors(dut):
     assert await cs.call("twh_result", C.byref(cs.t), C.byref(res)) == 0
     assert (res.cmd, res.channel, res.status, res.data) == \
         (0x44, 1, 0, tb.profiles[1].adc_o2)
-    # fill the v18 cell's calibration area (0x20-0xDF): stamps rise with the
-    # address except in page 0x40, which holds the oldest records
+    # fill the calibration area (0x20-0x3F): page 0x30 holds the oldest
+    # records, page 0x20 the newest
     flash = tb.models[0].flash
-    for i, a in enumerate(range(0x20, 0xE0, 2)):
-        flash[a] = 10 + i if not 0x40 <= a < 0x50 else 1 + (a - 0x40) // 2
+    for a in range(0x20, 0x40, 2):
+        flash[a] = 100 + a if a < 0x30 else a - 0x30 + 1
         flash[a + 1] = 3600
     addr = C.c_uint16()
     rc = await cs.call("twh_cal_append", C.byref(cs.t), 0, 500, 3700, C.byref(addr))
     assert rc == 0, T.ERRORS.get(rc, rc)
-    assert addr.value == 0x40, hex(addr.value)
-    assert flash[0x40:0x42] == [500, 3700]
-    assert all(w == 0x3FFF for w in flash[0x42:0x50])          # rest of the erased page
-    assert flash[0x20] == 10 and flash[0x50] != 0x3FFF         # other pages untouched
+    assert addr.value == 0x30, hex(addr.value)
+    assert flash[0x30:0x32] == [500, 3700]
+    assert all(w == 0x3FFF for w in flash[0x32:0x40])          # rest of the erased page
+    assert flash[0x20:0x22] == [100 + 0x20, 3600]              # the other page untouched
     await tb.finish()
 
 
