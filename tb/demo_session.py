@@ -1,84 +1,131 @@
-"""`make demo`: a scripted session against a modelled digital O2 cell.
+"""`make demo`: the C driver (libtwh.so) runs a sensor session on the
+Wishbone core, co-simulated: three channels with a digital O2 cell (firmware
+v18), an older O2 cell (v15) and a CO2 sensor. The spec monitors check every
+transaction on every line. For each channel it prints the page a diver's
+computer would show.
 
-The host core (twh_link at 12 MHz, the iCEBreaker's clock) talks to the
-behavioural O2 cell over the simulated line while the spec monitor checks
-every transaction. Each command, its result and the decoded values are
-printed; the host pins are dumped to build/demo/demo.vcd.
+The three channels run at once: after the timing negotiation (blocking
+helpers), every further command is queued with the driver's non-blocking
+twh_submit and collected with twh_result, so all three engines stay busy.
 """
-from datetime import timedelta
+import ctypes as C
 
 import cocotb
+from cocotb.triggers import RisingEdge
 
-import flashmap as fm
-import profiles
-import protocol as p
-from linktb import LinkTB
-from periph_model import PeripheralModel
-from protocol import Status
+import twh_ctypes as T
+from coretb import CoreTB
+from cosim import Cosim
 
+CELLS = ("o2_v18", "o2_v15", "co2")
 TYPES = {1: "Digital O2 sensor", 2: "CO2 sensor", 3: "CO2 temperature stick"}
+# flash words the page needs: model, MFG ID, dates; serial and factory cal
+WORDS = {1: list(range(0x00, 0x0E)) + list(range(0x10, 0x1A)),
+         2: list(range(0x00, 0x0E)) + list(range(0x10, 0x19))}
+STATUS = ["OK", "NO_RESPONSE", "BAD_CHECKSUM", "FRAMING", "SHORT_RESPONSE",
+          "LINE_STUCK_LOW", "LINE_STUCK_HIGH", "BLOCKED", "CANCELLED"]
 
 
 def out(text=""):
     print(text, flush=True)
 
 
+def fmt_dt(dt):
+    return f"{dt.year:04d}-{dt.month:02d}-{dt.day:02d} {dt.hour:02d}:{dt.minute:02d}"
+
+
+class Channel:
+    def __init__(self, ch, fw):
+        self.ch, self.fw = ch, fw
+        self.kind = T.MAP_O2 if fw.type == 1 else T.MAP_CO2
+        self.queue = [(c, 0xAA) for c in (0x40, 0x42, 0x43, 0x44)] + [(0x46, 0x20)]
+        self.queue += [(0x48, a) for a in WORDS[self.kind]]
+        self.answers = {}
+        self.words = {}
+
+
 @cocotb.test()
 async def demo(dut):
-    prof = profiles.O2_V18
-    model = PeripheralModel(dut, prof)
-    tb = LinkTB(dut, model, execute_max_us=prof.exec_max_us)
-    await tb.start()
-    # the shortest legal transaction keeps the demo quick
-    tb.set_timing(charge=7000, sync=900, preamble=1800, execute=4000,
-                  listen=2000, turnaround=2000)
+    tb = await CoreTB(dut, cells=CELLS).start()
+    for ch in range(3):   # the shortest legal transaction keeps the demo quick
+        await tb.set_timing(ch, charge=7000, sync=900, preamble=1800, listen=2000,
+                            turnaround=2000)
+    cs = Cosim(tb)
+    t = C.byref(cs.t)
+    assert await cs.call("twh_init", t, C.byref(cs.plat)) == 0
+    out(f"core: {cs.t.channels} channels, FIFO depth {cs.t.fifo_depth}, "
+        f"{cs.t.clk_khz} kHz, version {cs.t.version_major}.{cs.t.version_minor}")
 
-    async def cmd(code, payload=0xAA, note=""):
-        res = await tb.command(code, payload)
-        frame = " ".join(f"{b:02X}" for b in p.build_frame(code, payload))
-        data = f"{res.data:04X}" if res.status in (Status.OK, Status.BAD_CHECKSUM) else "----"
-        out(f"  {frame:<12} {p.command_name(code):<12} -> {res.status.name:<12} {data}  {note}")
-        return res
+    chans = []
+    for ch in range(3):
+        rc, fw = await cs.negotiate(ch)
+        assert rc == 0, (ch, T.ERRORS.get(rc))
+        execute = await tb.field("TIMING1", "EXECUTE_US", ch)
+        out(f"ch{ch}: firmware byte 0x{fw.raw:02X} -> v{fw.version}, "
+            f"{TYPES.get(fw.type, 'reserved')}: execute {execute} us")
+        chans.append(Channel(ch, fw))
 
-    out("== identity and health")
-    res = await cmd(0x41)
-    fw = p.decode_fw_version(res.data >> 8)
-    out(f"     firmware v{fw.version} ({fw.encoding}), type: {TYPES.get(res.data & 0xFF, 'reserved')}")
-    res = await cmd(0x40)
-    size = ((res.data >> 8) & 1) << 8 | (res.data & 0xFF)
-    out(f"     flash {size} words, configuration bits 0x{res.data >> 9:02X}")
-    supply = p.supply_mv((await cmd(0x42)).data)
-    out(f"     supply {supply} mV")
-    adc_t = (await cmd(0x43)).data
-    adc_o2 = (await cmd(0x44)).data
+    # all three channels at once, two commands in flight per channel
+    inflight = {}
+    res = T.Result()
+    while any(c.queue for c in chans) or inflight:
+        for c in chans:
+            while c.queue and sum(1 for k in inflight if k[0] == c.ch) < 2:
+                cmd, arg = c.queue.pop(0)
+                code, payload = (cmd | (arg >> 8), arg & 0xFF) if cmd in (0x46, 0x48) else (cmd, arg)
+                tag = await cs.call("twh_submit", t, c.ch, code, payload)
+                assert tag >= 0, T.ERRORS.get(tag)
+                inflight[(c.ch, tag)] = (cmd, arg)
+        rc = await cs.call("twh_result", t, C.byref(res))
+        if rc == T.ERR["AGAIN"]:
+            if not dut.irq.value:           # IRQ_EN.RESULT, set by twh_init
+                await RisingEdge(dut.irq)
+            continue
+        assert rc == 0, T.ERRORS.get(rc)
+        cmd, arg = inflight.pop((res.channel, res.tag))
+        c = chans[res.channel]
+        err = await cs.call("twh_status_err", res.status, res.cmd)
+        assert err == 0, (res.channel, hex(res.cmd), STATUS[res.status])
+        if cmd == 0x48:
+            c.words[arg] = res.data & 0x3FFF
+        else:
+            c.answers[cmd] = res.data
+        if cmd == 0x46:   # field calibrations: every word below the first free one
+            c.queue += [(0x48, a) for a in range(0x20, res.data)]
 
-    out("== flash: manufacturer and factory areas")
-    words = [fm.BLANK] * size
-    for addr in range(0x00, 0x20):
-        words[addr] = (await cmd(*p.addr_cmd(0x48, addr))).data & 0x3FFF
-    free = (await cmd(*p.addr_cmd(0x46, 0x20), note="first free word")).data
-    out("== flash: field calibrations")
-    for addr in range(0x20, min(free, size)):
-        words[addr] = (await cmd(*p.addr_cmd(0x48, addr))).data & 0x3FFF
-    m = fm.decode_o2_map(words)
-    cur = fm.current_calibration(words)
-    temp = p.temperature_c100(adc_t, m.ref_temp, m.adc_ref, supply, m.temp_scale)
-    o2 = p.o2_mv100(adc_o2, m.opamp_offset)
-
+    for c in chans:
+        size = ((c.answers[0x40] >> 8) & 1) << 8 | (c.answers[0x40] & 0xFF)
+        img = (C.c_uint16 * size)(*([0x3FFF] * size))
+        for a, w in c.words.items():
+            img[a] = w
+        m = T.Map()
+        assert await cs.call("twh_decode_map", img, size, c.kind, C.byref(m)) == 0
+        supply, temp = C.c_int32(), C.c_int32()
+        rc_s = await cs.call("twh_supply_mv", c.answers[0x42] & 0xFFF, C.byref(supply))
+        rc_t = await cs.call("twh_temperature_c100", c.answers[0x43] & 0xFFF, m.ref_temp,
+                             m.adc_ref, supply.value, m.temp_scale, C.byref(temp))
+        out()
+        out(f"== channel {c.ch}: {TYPES.get(c.fw.type)}, firmware v{c.fw.version}")
+        out(f"  model            {m.model.decode()}   (MFG ID {m.mfg_id.decode()})")
+        out(f"  serial           {m.serial.decode()}")
+        out(f"  manufactured     {fmt_dt(m.manufactured)}   expires {fmt_dt(m.expires)}")
+        out(f"  flash            {size} words")
+        out(f"  supply           {supply.value if rc_s == 0 else '?'} mV")
+        out(f"  temperature      {temp.value / 100:.2f} C" if rc_t == 0 else "  temperature      ?")
+        if c.kind == T.MAP_O2:
+            adc = c.answers[0x44] & 0xFFF
+            o2 = await cs.call("twh_o2_mv100", adc, m.opamp_offset)
+            out(f"  O2 cell          {o2 / 100:.2f} mV")
+            if m.current.addr:
+                ppo2 = await cs.call("twh_ppo2_mbar", adc, m.current.value)
+                out(f"  PPO2             {ppo2 / 1000:.3f} bar (calibration at 0x{m.current.addr:02X}, "
+                    f"{m.current.stamp * m.cal_unit_hours} h after manufacture, gain {m.current.value})")
+        elif m.current.addr:
+            out(f"  CO2 400 ppm cal  reading {m.current.value} "
+                f"({m.current.stamp * m.cal_unit_hours} h after manufacture)")
+        out(f"  calibrations     {m.cal_count} stored")
+    n = sum(len(mon.transactions) for mon in tb.monitors)
     out()
-    out("== sensor page")
-    out(f"  model            {m.model.strip()}   (MFG ID {m.mfg_id.strip()})")
-    out(f"  serial           {m.serial.strip()}")
-    out(f"  firmware         v{fw.version}, {TYPES.get(prof.type_byte)}")
-    out(f"  manufactured     {m.manufactured:%Y-%m-%d %H:%M}   expires {m.expires:%Y-%m-%d %H:%M}")
-    out(f"  supply           {supply} mV")
-    out(f"  temperature      {temp / 100:.2f} C")
-    out(f"  O2 cell          {o2 / 100:.2f} mV")
-    if cur is not None:
-        when = m.manufactured + timedelta(hours=fm.O2_CAL_UNIT_HOURS * cur.stamp)
-        out(f"  PPO2             {p.ppo2_mbar(adc_o2, cur.value) / 1000:.3f} bar "
-            f"(calibrated {when:%Y-%m-%d %H:%M}, gain {cur.value}, record at 0x{cur.addr:02X})")
-    out(f"  calibrations     {fm.calibration_count(words)} stored")
-    out()
-    out(f"{len(tb.monitor.transactions)} transactions, every one inside the spec's timing table (spec monitor)")
+    out(f"{n} transactions on 3 lines, every one inside the spec's timing table (spec monitors); "
+        f"{cs.accesses} bus accesses by the driver, {cs.irq_waits} interrupt waits")
     await tb.finish()

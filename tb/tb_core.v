@@ -75,6 +75,16 @@ module tb_core #(
     wire [2:0] li3 = {line_2, line_1, line_0};
     assign li = li3[CHANNELS-1:0];
 
+    // `make demo` asks for a small VCD of the pins with +vcd=<file>.
+    reg [1023:0] vcd_file;
+    initial begin
+        if ($value$plusargs("vcd=%s", vcd_file)) begin
+            $dumpfile(vcd_file);
+            $dumpvars(0, line_o_0, line_oe_0, line_0, line_o_1, line_oe_1, line_1,
+                      line_o_2, line_oe_2, line_2, irq);
+        end
+    end
+
     generate
         if (BUS == 0) begin : g_wb
             twh_wb #(.CLK_HZ(CLK_HZ), .CHANNELS(CHANNELS), .FIFO_DEPTH(FIFO_DEPTH)) dut (
