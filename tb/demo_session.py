@@ -9,6 +9,7 @@ helpers), every further command is queued with the driver's non-blocking
 twh_submit and collected with twh_result, so all three engines stay busy.
 """
 import ctypes as C
+from datetime import datetime, timedelta
 
 import cocotb
 from cocotb.triggers import RisingEdge
@@ -32,6 +33,13 @@ def out(text=""):
 
 def fmt_dt(dt):
     return f"{dt.year:04d}-{dt.month:02d}-{dt.day:02d} {dt.hour:02d}:{dt.minute:02d}"
+
+
+def cal_date(m):
+    """Date of the current calibration: manufacture + stamp x unit hours."""
+    made = datetime(m.manufactured.year, m.manufactured.month, m.manufactured.day,
+                    m.manufactured.hour, m.manufactured.minute)
+    return f"{made + timedelta(hours=m.current.stamp * m.cal_unit_hours):%Y-%m-%d %H:%M}"
 
 
 class Channel:
@@ -118,11 +126,10 @@ async def demo(dut):
             out(f"  O2 cell          {o2 / 100:.2f} mV")
             if m.current.addr:
                 ppo2 = await cs.call("twh_ppo2_mbar", adc, m.current.value)
-                out(f"  PPO2             {ppo2 / 1000:.3f} bar (calibration at 0x{m.current.addr:02X}, "
-                    f"{m.current.stamp * m.cal_unit_hours} h after manufacture, gain {m.current.value})")
+                out(f"  PPO2             {ppo2 / 1000:.3f} bar (calibrated {cal_date(m)}, "
+                    f"gain {m.current.value}, record at 0x{m.current.addr:02X})")
         elif m.current.addr:
-            out(f"  CO2 400 ppm cal  reading {m.current.value} "
-                f"({m.current.stamp * m.cal_unit_hours} h after manufacture)")
+            out(f"  CO2 400 ppm cal  reading {m.current.value} (calibrated {cal_date(m)})")
         out(f"  calibrations     {m.cal_count} stored")
     n = sum(len(mon.transactions) for mon in tb.monitors)
     out()

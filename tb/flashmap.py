@@ -243,20 +243,28 @@ class O2Map:
     text_pad: str = field(default=" ", compare=False)
 
 
-def build_o2_map(d: O2Map) -> list:
-    """Word image (len d.size) of an O2 description."""
+def _common_image(d) -> list:
+    """Blank image with the fields both maps share at the same addresses:
+    model, MFG ID, manufacture and expiry dates, serial, Temp_Scale,
+    Ref_Temp, ADC_Ref."""
     img = [BLANK] * d.size
     img[MODEL_ADDR:MODEL_ADDR + MODEL_WORDS] = encode_text(d.model, MODEL_WORDS, d.text_pad)
     img[MFG_ID_ADDR:MFG_ID_ADDR + MFG_ID_WORDS] = encode_text(d.mfg_id, MFG_ID_WORDS, d.text_pad)
     img[MFG_DATE_ADDR:MFG_DATE_ADDR + 2] = encode_datetime(d.manufactured)
     img[EXPIRY_ADDR:EXPIRY_ADDR + 2] = encode_datetime(d.expires)
-    if not (0 <= d.map_version <= 0x3F and 0 <= d.map_type <= 0xFF):
-        raise ValueError("map version is 6 bits, type 8 bits")
-    img[MAP_VERSION_ADDR] = d.map_version << 8 | d.map_type
     img[SERIAL_ADDR:SERIAL_ADDR + SERIAL_WORDS] = encode_text(d.serial, SERIAL_WORDS, d.text_pad)
     img[TEMP_SCALE_ADDR] = _u14(d.temp_scale, "temp_scale")
     img[REF_TEMP_ADDR] = _u14(d.ref_temp, "ref_temp")
     img[ADC_REF_ADDR] = _u14(d.adc_ref, "adc_ref")
+    return img
+
+
+def build_o2_map(d: O2Map) -> list:
+    """Word image (len d.size) of an O2 description."""
+    img = _common_image(d)
+    if not (0 <= d.map_version <= 0x3F and 0 <= d.map_type <= 0xFF):
+        raise ValueError("map version is 6 bits, type 8 bits")
+    img[MAP_VERSION_ADDR] = d.map_version << 8 | d.map_type
     img[OPAMP_OFFSET_ADDR] = to_s14(d.opamp_offset)
     if len(d.mfg_cal) != 3:
         raise ValueError("mfg_cal needs 3 pairs")
@@ -317,15 +325,7 @@ class CO2Map:
 
 def build_co2_map(d: CO2Map) -> list:
     """Word image (len d.size) of a CO2 description."""
-    img = [BLANK] * d.size
-    img[MODEL_ADDR:MODEL_ADDR + MODEL_WORDS] = encode_text(d.model, MODEL_WORDS, d.text_pad)
-    img[MFG_ID_ADDR:MFG_ID_ADDR + MFG_ID_WORDS] = encode_text(d.mfg_id, MFG_ID_WORDS, d.text_pad)
-    img[MFG_DATE_ADDR:MFG_DATE_ADDR + 2] = encode_datetime(d.manufactured)
-    img[EXPIRY_ADDR:EXPIRY_ADDR + 2] = encode_datetime(d.expires)
-    img[SERIAL_ADDR:SERIAL_ADDR + SERIAL_WORDS] = encode_text(d.serial, SERIAL_WORDS, d.text_pad)
-    img[TEMP_SCALE_ADDR] = _u14(d.temp_scale, "temp_scale")
-    img[REF_TEMP_ADDR] = _u14(d.ref_temp, "ref_temp")
-    img[ADC_REF_ADDR] = _u14(d.adc_ref, "adc_ref")
+    img = _common_image(d)
     for base, vals in ((RGB_OFFSET_ADDR, d.rgb_offset), (RGB_GAIN_ADDR, d.rgb_gain)):
         if vals is not None:
             if len(vals) != 3:

@@ -56,6 +56,24 @@ async def driver_session(dut):
     assert await cs.call("twh_write_word", C.byref(cs.t), 0, 0x05, 0x0001) == E["BAD_ARG"]
     assert await cs.call("twh_erase_page", C.byref(cs.t), 0, 0x10) == E["BAD_ARG"]
     assert (cs.accesses, len(model.log)) == before
+    # a whole-image read
+    img = (C.c_uint16 * 4)()
+    assert await cs.call("twh_read_image", C.byref(cs.t), 1, img, 4) == 0
+    assert list(img) == list(tb.profiles[1].flash[:4])
+    # non-blocking: queue three, cancel what has not started, collect all
+    tags = [await cs.call("twh_submit", C.byref(cs.t), 2, 0x41, 0xAA) for _ in range(3)]
+    assert all(tag >= 0 for tag in tags), tags
+    assert await cs.call("twh_cancel_all", C.byref(cs.t)) == 0
+    got, res = {}, T.Result()
+    while len(got) < 3:
+        rc = await cs.call("twh_result", C.byref(cs.t), C.byref(res))
+        if rc == E["AGAIN"]:
+            await Timer(1, "ms")
+            continue
+        assert rc == 0 and res.channel == 2
+        got[res.tag] = res.status
+    cancelled = [tag for tag in tags if got[tag] == 8]
+    assert len(cancelled) >= 2 and all(got[tag] in (0, 8) for tag in tags), got
     assert cs.irq_waits > 0, "the driver never waited on the interrupt"
     await tb.finish()
 
