@@ -8,7 +8,8 @@ cd "$(dirname "$0")/.."
 
 # command -> Debian package
 tools=(iverilog:iverilog vvp:iverilog verilator:verilator yosys:yosys make:make gcc:gcc
-       arm-none-eabi-gcc:gcc-arm-none-eabi arm-none-eabi-size:binutils-arm-none-eabi)
+       arm-none-eabi-gcc:gcc-arm-none-eabi arm-none-eabi-size:binutils-arm-none-eabi
+       sigrok-cli:sigrok-cli)
 [ "${1:-}" = "--waves" ] && tools+=(gtkwave:gtkwave)
 
 missing=()
