@@ -10,6 +10,7 @@ JOBS   ?= 2
 LINT_CLOCKS := 4000000 10500000 12000000 27000000 48000000 100000000 200000000
 
 .PHONY: all deps test lint pytest swtest demo waves bench clean help regs check-regs
+.PHONY: fusesoc wavedrom check-wavedrom
 
 all: test
 
@@ -47,7 +48,7 @@ pytest: deps
 swtest: deps
 	$(MAKE) -C sw test size
 
-test: check-regs lint swtest pytest
+test: check-regs check-wavedrom lint fusesoc swtest pytest
 
 # Files generated from rdl/twh_regs.rdl (scripts/gen_regs.sh): committed, and
 # check-regs (part of test) fails when they are stale or the header does not
@@ -92,3 +93,25 @@ bench: deps
 	    tb_sources=['tb_core.v'], \
 	    extra_env={'COCOTB_LOG_LEVEL': 'WARNING', 'GPI_LOG_LEVEL': 'WARNING', \
 	      'TWH_CLK_HZ': '4000000', 'TWH_CHANNELS': '3', 'TWH_FIFO_DEPTH': '16', 'TWH_BUS': '0'})"
+
+# FuseSoC (twowire-host.core): Verilator -Wall lint of twh_wb and the Icarus
+# smoke test tb/tb_link_smoke.v, through fusesoc/edalize (work dir build/fusesoc).
+FUSESOC := .venv/bin/fusesoc --cores-root .
+fusesoc: deps
+	$(FUSESOC) run --build-root build/fusesoc/lint --target=lint open:twowire:host
+	$(FUSESOC) run --build-root build/fusesoc/sim --target=sim open:twowire:host
+
+# WaveDrom timing diagrams: docs/wavedrom/*.json -> *.svg (yowasp-wavedrom).
+# check-wavedrom renders into build/wavedrom and fails when a committed SVG
+# differs from its source.
+wavedrom: deps
+	bash scripts/gen_wavedrom.sh
+
+check-wavedrom: deps
+	@rm -rf build/wavedrom && bash scripts/gen_wavedrom.sh build/wavedrom
+	@set -e; for j in docs/wavedrom/*.json; do \
+	    s=$${j%.json}.svg; \
+	    diff -q $$s build/wavedrom/$$(basename $$s) >/dev/null \
+	        || { echo "$$s is stale: run 'make wavedrom'"; exit 1; }; \
+	done
+	@echo "wavedrom diagrams current"

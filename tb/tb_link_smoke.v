@@ -1,0 +1,134 @@
+// Self-checking smoke test of one twh_link engine, plain Verilog (Icarus),
+// no cocotb: the FuseSoC `sim` target (twowire-host.core) runs it.
+//
+// twh_link at 4 MHz (the slowest clock allowed), default timing, no
+// peripheral on the line: the line reads what the host drives, and low (the
+// front end's pull-down) while it is released. One 3-byte command (0x41,
+// firmware version) is sent. Checks:
+//   - the phases run 1, 2, 3, 4, 5, 6, 7 in that order, then back to idle;
+//   - line_oe stays low for the whole listen phase (the pins follow the
+//     sequencer one clock later, so the check uses the phase of the
+//     previous clock) and the listen phase lasts >= 2000 us;
+//   - exactly one result: status NO_RESPONSE (1), data 0, code and tag echoed.
+// Prints "PASS" and finishes, or "FAIL: ..." and ends with $fatal (vvp exits
+// with a non-zero code, which fails the FuseSoC run).
+`timescale 1ns/1ps
+`default_nettype none
+`include "twh_defs.vh"
+module tb_link_smoke;
+    localparam integer CLK_HZ   = 4_000_000;
+    localparam real    HALF_NS  = 1.0e9 / (2.0 * CLK_HZ);
+    // post-reset hold-off 2 ms + a whole default transaction (21.06 ms) + margin
+    localparam integer TIMEOUT_CLKS = CLK_HZ / 1000 * 40;
+
+    reg clk = 1'b0;
+    always #(HALF_NS) clk = ~clk;
+
+    reg         rst = 1'b1;
+    reg         s_cmd_valid = 1'b0;
+    wire        s_cmd_ready;
+    wire        m_res_valid;
+    wire [7:0]  m_res_code;
+    wire [15:0] m_res_data;
+    wire [3:0]  m_res_status;
+    wire [7:0]  m_res_tag;
+    wire        line_o, line_oe;
+    wire [2:0]  phase;
+    wire        busy;
+
+    // no peripheral: driven by the host, else pulled low
+    wire line_i = line_oe ? line_o : 1'b0;
+
+    twh_link #(.CLK_HZ(CLK_HZ), .TAG_W(8)) dut (
+        .clk(clk), .rst(rst),
+        .cfg_charge_us(`TWH_CHARGE_DEF), .cfg_sync_us(`TWH_SYNC_DEF),
+        .cfg_preamble_us(`TWH_PREAMBLE_DEF), .cfg_execute_us(`TWH_EXECUTE_DEF),
+        .cfg_listen_us(`TWH_LISTEN_DEF), .cfg_turnaround_us(`TWH_TURNAROUND_DEF),
+        .cfg_idle_charge(1'b0), .cfg_unlock(1'b0),
+        .s_cmd_valid(s_cmd_valid), .s_cmd_ready(s_cmd_ready),
+        .s_cmd_code(8'h41), .s_cmd_payload(16'h00AA), .s_cmd_tag(8'h5A),
+        .s_cmd_skip(4'd0),
+        .m_res_valid(m_res_valid), .m_res_ready(1'b1),
+        .m_res_code(m_res_code), .m_res_data(m_res_data),
+        .m_res_status(m_res_status), .m_res_tag(m_res_tag),
+        .line_o(line_o), .line_oe(line_oe), .line_i(line_i),
+        .phase(phase), .busy(busy)
+    );
+
+    integer errors = 0;
+    integer results = 0;
+    integer clks = 0;
+    integer seq_len = 0;       // phase changes seen after the command
+    integer listen_clks = 0;
+    reg [2:0] ph_d = `TWH_PH_IDLE;
+    reg [2:0] seq [0:15];
+    reg       sent = 1'b0;
+    reg       done = 1'b0;
+
+    task fail;
+        input [8*64-1:0] msg;
+        begin
+            $display("FAIL: %0s (t = %0t)", msg, $time);
+            errors = errors + 1;
+        end
+    endtask
+
+    // the command: one valid/ready handshake after reset
+    always @(posedge clk) begin
+        if (!rst && !sent) begin
+            s_cmd_valid <= 1'b1;
+            if (s_cmd_valid && s_cmd_ready) begin
+                s_cmd_valid <= 1'b0;
+                sent        <= 1'b1;
+            end
+        end
+    end
+
+    // monitors
+    always @(posedge clk) if (!rst) begin
+        clks = clks + 1;
+        if (phase != ph_d) begin
+            if (seq_len < 16) seq[seq_len] = phase;
+            seq_len = seq_len + 1;
+        end
+        if (ph_d == `TWH_PH_LISTEN) begin
+            listen_clks = listen_clks + 1;
+            if (line_oe !== 1'b0 && errors < 5) fail("line_oe high during listen");
+        end
+        ph_d <= phase;
+        if (m_res_valid) begin
+            results = results + 1;
+            if (m_res_status !== `TWH_ST_NO_RESPONSE) fail("status is not NO_RESPONSE (1)");
+            if (m_res_data   !== 16'd0)  fail("data not zero");
+            if (m_res_code   !== 8'h41)  fail("command code not echoed");
+            if (m_res_tag    !== 8'h5A)  fail("tag not echoed");
+            $display("result: status %0d code 0x%02h tag 0x%02h data 0x%04h",
+                     m_res_status, m_res_code, m_res_tag, m_res_data);
+        end
+        if (results > 0 && phase == `TWH_PH_IDLE && !busy) done <= 1'b1;
+    end
+
+    integer i;
+    initial begin
+        repeat (4) @(posedge clk);
+        rst <= 1'b0;
+        while (!done && clks < TIMEOUT_CLKS) @(posedge clk);
+        repeat (8) @(posedge clk);
+        if (!done) fail("timeout: no result / engine not idle");
+        if (results != 1) fail("not exactly one result");
+        // expected: 1 2 3 4 5 6 7 0
+        if (seq_len != 8) fail("wrong number of phase changes");
+        for (i = 0; i < 8 && i < seq_len; i = i + 1)
+            if (seq[i] !== ((i + 1) % 8)) fail("phases out of order");
+        // 1 us = CLK_HZ / 1e6 clocks; the listen clamp minimum is 2000 us
+        if (listen_clks < 2000 * (CLK_HZ / 1_000_000)) fail("listen phase too short");
+        $display("phases seen: %0d changes, listen %0d clocks", seq_len, listen_clks);
+        if (errors == 0) begin
+            $display("PASS");
+            $finish;
+        end else begin
+            $fatal(1, "FAIL: %0d error(s)", errors);
+        end
+    end
+endmodule
+`default_nettype wire
