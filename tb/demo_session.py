@@ -14,6 +14,7 @@ from datetime import datetime, timedelta
 import cocotb
 from cocotb.triggers import RisingEdge
 
+import protocol as p
 import twh_ctypes as T
 from coretb import CoreTB
 from cosim import Cosim
@@ -74,6 +75,7 @@ async def demo(dut):
         chans.append(Channel(ch, fw))
 
     # all three channels at once, two commands in flight per channel
+    out("commands as their results arrive (channel, frame on the line, result):")
     inflight = {}
     res = T.Result()
     while any(c.queue for c in chans) or inflight:
@@ -92,6 +94,10 @@ async def demo(dut):
         assert rc == 0, T.ERRORS.get(rc)
         cmd, arg = inflight.pop((res.channel, res.tag))
         c = chans[res.channel]
+        frame = " ".join(f"{b:02X}" for b in p.build_frame(res.cmd, arg & 0xFF))
+        data = f"{res.data:04X}" if res.status in (0, 2) else "----"
+        out(f"  ch{res.channel}  {frame:<9} {p.command_name(res.cmd):<12} -> "
+            f"{STATUS[res.status]:<12} {data}")
         err = await cs.call("twh_status_err", res.status, res.cmd)
         assert err == 0, (res.channel, hex(res.cmd), STATUS[res.status])
         if cmd == 0x48:
