@@ -275,25 +275,32 @@ def build_o2_map(d: O2Map) -> list:
     return img
 
 
-def decode_o2_map(words) -> O2Map:
-    """Description of an O2 word image (inverse of build_o2_map)."""
-    w = [x & WORD_MASK for x in words]
-    return O2Map(
+def _common_fields(w) -> dict:
+    """The fields both maps share (inverse of _common_image)."""
+    return dict(
         model=decode_text(w[MODEL_ADDR:MODEL_ADDR + MODEL_WORDS]),
         mfg_id=decode_text(w[MFG_ID_ADDR:MFG_ID_ADDR + MFG_ID_WORDS]),
         manufactured=decode_datetime(*w[MFG_DATE_ADDR:MFG_DATE_ADDR + 2]),
         expires=decode_datetime(*w[EXPIRY_ADDR:EXPIRY_ADDR + 2]),
-        map_version=w[MAP_VERSION_ADDR] >> 8,
-        map_type=w[MAP_VERSION_ADDR] & 0xFF,
         serial=decode_text(w[SERIAL_ADDR:SERIAL_ADDR + SERIAL_WORDS]),
         temp_scale=w[TEMP_SCALE_ADDR],
         ref_temp=w[REF_TEMP_ADDR],
         adc_ref=w[ADC_REF_ADDR],
+        size=len(w),
+    )
+
+
+def decode_o2_map(words) -> O2Map:
+    """Description of an O2 word image (inverse of build_o2_map)."""
+    w = [x & WORD_MASK for x in words]
+    return O2Map(
+        **_common_fields(w),
+        map_version=w[MAP_VERSION_ADDR] >> 8,
+        map_type=w[MAP_VERSION_ADDR] & 0xFF,
         opamp_offset=from_s14(w[OPAMP_OFFSET_ADDR]),
         mfg_cal=tuple((w[MFG_CAL_ADDR + 2 * i], w[MFG_CAL_ADDR + 2 * i + 1])
                       for i in range(3)),
         field_cals=_decode_cals(w, O2_CAL_UNIT_HOURS),
-        size=len(w),
     )
 
 
@@ -344,18 +351,10 @@ def decode_co2_map(words) -> CO2Map:
     """Description of a CO2 word image (inverse of build_co2_map)."""
     w = [x & WORD_MASK for x in words]
     return CO2Map(
-        model=decode_text(w[MODEL_ADDR:MODEL_ADDR + MODEL_WORDS]),
-        mfg_id=decode_text(w[MFG_ID_ADDR:MFG_ID_ADDR + MFG_ID_WORDS]),
-        manufactured=decode_datetime(*w[MFG_DATE_ADDR:MFG_DATE_ADDR + 2]),
-        expires=decode_datetime(*w[EXPIRY_ADDR:EXPIRY_ADDR + 2]),
-        serial=decode_text(w[SERIAL_ADDR:SERIAL_ADDR + SERIAL_WORDS]),
-        temp_scale=w[TEMP_SCALE_ADDR],
-        ref_temp=w[REF_TEMP_ADDR],
-        adc_ref=w[ADC_REF_ADDR],
+        **_common_fields(w),
         rgb_offset=_rgb(w, RGB_OFFSET_ADDR),
         rgb_gain=_rgb(w, RGB_GAIN_ADDR),
         field_cals=_decode_cals(w, CO2_CAL_UNIT_HOURS),
-        size=len(w),
     )
 
 
