@@ -34,7 +34,8 @@ def run(toplevel, test_module, name, *, parameters=None, testcase=None,
     build_dir = ROOT / "build" / "sim" / name
     runner = _IcarusVcd() if vcd else get_runner("icarus")
     runner.build(
-        sources=[*rtl_sources(), *(TB_DIR / s for s in tb_sources)],
+        # tb_line.v (the simulated line) serves every test-bench top
+        sources=[*rtl_sources(), TB_DIR / "tb_line.v", *(TB_DIR / s for s in tb_sources)],
         includes=[RTL_DIR],
         hdl_toplevel=toplevel,
         parameters=parameters or {},

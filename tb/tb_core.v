@@ -1,12 +1,10 @@
 // Test-bench top for the bus-attached core: twh_wb or twh_axil (BUS = 0 / 1)
 // with up to three channels, each on its own simulated 2-wire line.
 //
-// The clock is generated here (a Python-driven clock costs ~20x). Per
-// channel n the line is resolved as in tb_link.v: stuck fault, else host
-// drive, else the peripheral model's drive, else a pull-down, with `glitch`
-// OR-ed on top. The per-channel signals are flat scalars (line_0, periph_o_0,
-// ...) so the peripheral model and the spec monitor can be pointed at one
-// channel each (see tb/coretb.py).
+// The clock is generated here (a Python-driven clock costs ~20x). Each
+// channel's line is resolved by tb_line, as in tb_link.v. The per-channel
+// signals are flat scalars (line_0, periph_o_0, ...) so the peripheral model
+// and the spec monitor can be pointed at one channel each (tb/coretb.py).
 `timescale 1ns/1ps
 `default_nettype none
 module tb_core #(
@@ -69,9 +67,18 @@ module tb_core #(
     wire [2:0] loe3 = {{(3-CHANNELS){1'b0}}, loe};
     assign {line_o_2, line_o_1, line_o_0}    = lo3;
     assign {line_oe_2, line_oe_1, line_oe_0} = loe3;
-    assign line_0 = stuck_en_0 ? stuck_val_0 : ((line_oe_0 ? line_o_0 : (periph_oe_0 ? periph_o_0 : 1'b0)) | glitch_0);
-    assign line_1 = stuck_en_1 ? stuck_val_1 : ((line_oe_1 ? line_o_1 : (periph_oe_1 ? periph_o_1 : 1'b0)) | glitch_1);
-    assign line_2 = stuck_en_2 ? stuck_val_2 : ((line_oe_2 ? line_o_2 : (periph_oe_2 ? periph_o_2 : 1'b0)) | glitch_2);
+    tb_line u_line0 (
+        .host_o(line_o_0), .host_oe(line_oe_0), .periph_o(periph_o_0), .periph_oe(periph_oe_0),
+        .stuck_en(stuck_en_0), .stuck_val(stuck_val_0), .glitch(glitch_0), .line(line_0)
+    );
+    tb_line u_line1 (
+        .host_o(line_o_1), .host_oe(line_oe_1), .periph_o(periph_o_1), .periph_oe(periph_oe_1),
+        .stuck_en(stuck_en_1), .stuck_val(stuck_val_1), .glitch(glitch_1), .line(line_1)
+    );
+    tb_line u_line2 (
+        .host_o(line_o_2), .host_oe(line_oe_2), .periph_o(periph_o_2), .periph_oe(periph_oe_2),
+        .stuck_en(stuck_en_2), .stuck_val(stuck_val_2), .glitch(glitch_2), .line(line_2)
+    );
     wire [2:0] li3 = {line_2, line_1, line_0};
     assign li = li3[CHANNELS-1:0];
 

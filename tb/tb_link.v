@@ -4,11 +4,8 @@
 // costs ~20x the simulation time. Everything else (config, command/result
 // streams, the peripheral's drive, fault injection) is driven by cocotb.
 //
-// The 2-wire line itself is resolved here: a stuck-line fault overrides
-// everything, otherwise the host drives when line_oe is high, otherwise the
-// peripheral model drives when periph_oe is high, otherwise a weak pull-down
-// (the reference front end's bias) reads low. `glitch` is OR-ed on top so a
-// test can inject short spikes anywhere.
+// The 2-wire line itself is resolved by tb_line (faults, host, peripheral
+// model, pull-down).
 `timescale 1ns/1ps
 `default_nettype none
 module tb_link #(
@@ -56,8 +53,10 @@ module tb_link #(
     localparam real HALF_NS = 1.0e9 / (2.0 * CLK_HZ);
     always #(HALF_NS) clk = ~clk;
 
-    assign line = stuck_en ? stuck_val
-                : ((line_oe ? line_o : (periph_oe ? periph_o : 1'b0)) | glitch);
+    tb_line u_line (
+        .host_o(line_o), .host_oe(line_oe), .periph_o(periph_o), .periph_oe(periph_oe),
+        .stuck_en(stuck_en), .stuck_val(stuck_val), .glitch(glitch), .line(line)
+    );
     assign line_i = line;
 
     twh_link #(.CLK_HZ(CLK_HZ), .TAG_W(8)) dut (
