@@ -9,6 +9,13 @@ JOBS   ?= 2
 # the clocks the engine is linted at: each one elaborates different logic
 LINT_CLOCKS := 4000000 10500000 12000000 27000000 48000000 100000000 200000000
 
+# Each flow beside the core (synthesis, formal, fuzzing, soak, board tops) has
+# its own makefile in mk/. One adds what make test must also run to TEST_EXTRA
+# and what make bench must also print to BENCH_EXTRA.
+TEST_EXTRA  :=
+BENCH_EXTRA :=
+include $(sort $(wildcard mk/*.mk))
+
 .PHONY: all deps test lint pytest swtest demo waves bench clean help regs check-regs
 .PHONY: fusesoc wavedrom check-wavedrom
 
@@ -48,7 +55,7 @@ pytest: deps
 swtest: deps
 	$(MAKE) -C sw test size
 
-test: check-regs check-wavedrom lint fusesoc swtest pytest
+test: check-regs check-wavedrom lint fusesoc swtest $(TEST_EXTRA) pytest
 
 # Files generated from rdl/twh_regs.rdl (scripts/gen_regs.sh): committed, and
 # check-regs (part of test) fails when they are stale or the header does not
@@ -85,7 +92,7 @@ clean:
 
 # Figures, never asserted: driver size on Cortex-M0, bus accesses and
 # interrupt waits per transaction (co-simulated).
-bench: deps
+bench: deps $(BENCH_EXTRA)
 	$(MAKE) -s -C sw size shared
 	$(PY) -c "import sys; sys.path.insert(0, 'tb'); import conftest, simrun; \
 	  simrun.run('tb_core', 'bench_driver', 'bench', \
