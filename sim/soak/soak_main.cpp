@@ -1,0 +1,971 @@
+// Verilator soak: the C driver (sw/, unmodified) runs random traffic on three
+// channels of the Verilated twh_wb (sim/soak/soak_top.v), each line answered
+// by a C++ O2-cell model that injects faults on a chosen fraction of its
+// answers and records what it put on the line (periph.h). Every result the
+// driver returns, status and data, is checked against that record; any
+// mismatch, reception error of the model, spec-timing breach, collision on
+// the line or bus error makes the exit code non-zero.
+//
+// Time belongs to the driver: a register access steps the clock until the
+// core answers, the wait/interrupt hook steps it until irq rises. Everything
+// is derived from one seed, so a run replays exactly; wall-clock time is only
+// measured for the rates printed at the end.
+#include <chrono>
+#include <cinttypes>
+#include <cmath>
+#include <cstddef>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <ctime>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <verilated.h>
+
+#include "Vsoak_top.h"
+#include "periph.h"
+#include "twh.h"
+#include "twh_regs.h"
+
+#ifndef SOAK_CLK_HZ
+#error "SOAK_CLK_HZ must match the Verilated CLK_HZ"
+#endif
+#ifndef SOAK_CHANNELS
+#error "SOAK_CHANNELS must match the Verilated CHANNELS"
+#endif
+
+namespace {
+
+using soak::Fault;
+using soak::PeriphTxn;
+
+constexpr int NCH = SOAK_CHANNELS;
+constexpr double CLK_HZ = SOAK_CLK_HZ;
+constexpr uint64_t CYC_PER_US = SOAK_CLK_HZ / 1000000;
+static_assert(SOAK_CLK_HZ % 1000000 == 0, "the soak steps whole microseconds");
+constexpr int TAGS = 1 << TWH_REGS__CMD_PUSH__TAG_bw;
+
+// the shortest legal transaction (spec table, NOTES.md)
+constexpr uint16_t CHARGE_US = 7000, SYNC_US = 900, PREAMBLE_US = 1800,
+                   EXECUTE_US = 3500, LISTEN_US = 2000, TURNAROUND_US = 2000;
+
+constexpr uint32_t reg_off(size_t field) { return static_cast<uint32_t>(field); }
+uint32_t ch_off(int ch, size_t reg) {
+    return static_cast<uint32_t>(offsetof(twh_regs_t, CH) +
+                                 static_cast<size_t>(ch) * sizeof(twh_regs__channel_t__stride20_t) + reg);
+}
+
+const char *status_name(unsigned s) {
+    static const char *n[] = {"OK", "NO_RESPONSE", "BAD_CHECKSUM", "FRAMING", "SHORT_RESPONSE",
+                              "LINE_STUCK_LOW", "LINE_STUCK_HIGH", "BLOCKED", "CANCELLED"};
+    return s < 9 ? n[s] : "UNDEFINED";
+}
+
+struct Options {
+    uint64_t transactions = 10000;
+    uint64_t seed = 0;
+    bool seed_given = false;
+    double fault_rate = 0.2;
+    int depth = 2;                // commands in flight per channel
+    double blocking_rate = 0.05;  // share of issues made by a blocking helper
+    uint64_t progress = 1000;
+    std::string trace_logic;      // file: every frame and the device's answer
+    std::string rate_file;        // file: the rate lines, for make soak's comparison
+};
+
+void usage() {
+    std::fprintf(stderr,
+                 "usage: soak [--transactions N] [--seed S] [--fault-rate F] [--depth D]\n"
+                 "            [--blocking-rate B] [--progress N] [--trace-logic FILE]\n"
+                 "            [--rate-file FILE]\n");
+    std::exit(2);
+}
+
+Options parse(int argc, char **argv) {
+    Options o;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        auto val = [&]() -> const char * {
+            if (i + 1 >= argc)
+                usage();
+            return argv[++i];
+        };
+        if (a == "--transactions") o.transactions = std::strtoull(val(), nullptr, 0);
+        else if (a == "--seed") { o.seed = std::strtoull(val(), nullptr, 0); o.seed_given = true; }
+        else if (a == "--fault-rate") o.fault_rate = std::atof(val());
+        else if (a == "--depth") o.depth = std::atoi(val());
+        else if (a == "--blocking-rate") o.blocking_rate = std::atof(val());
+        else if (a == "--progress") o.progress = std::strtoull(val(), nullptr, 0);
+        else if (a == "--trace-logic") o.trace_logic = val();
+        else if (a == "--rate-file") o.rate_file = val();
+        else if (a.rfind("+verilator", 0) == 0) continue;
+        else usage();
+    }
+    if (o.transactions == 0 || o.depth < 1 || o.depth > 4 || o.fault_rate < 0 ||
+        o.fault_rate > 1 || o.blocking_rate < 0 || o.blocking_rate > 1)
+        usage();
+    return o;
+}
+
+// ------------------------------------------------------------ expectations
+// What the driver must report for one transaction, from the model's record
+// and docs/protocol.md ("Receiving the answer", "Results and status codes").
+struct Expect {
+    uint8_t status = 0;
+    uint16_t data = 0;
+};
+
+Expect predict(const PeriphTxn &x) {
+    Expect e;
+    if (!x.answered) {
+        e.status = TWH_ST_NO_RESPONSE;
+        return e;
+    }
+    if (x.fault == Fault::StopBit) {
+        // a 0 stop bit after eight 0 data bits is a break: the answer ended
+        e.status = x.wire[x.fault_byte] == 0 ? TWH_ST_SHORT_RESPONSE : TWH_ST_FRAMING;
+        return e;
+    }
+    if (x.nwire < 3) {
+        e.status = TWH_ST_SHORT_RESPONSE;
+        return e;
+    }
+    const uint8_t chk = static_cast<uint8_t>(~(x.wire[0] + x.wire[1]));
+    e.status = chk == x.wire[2] ? TWH_ST_OK : TWH_ST_BAD_CHECKSUM;
+    e.data = static_cast<uint16_t>(x.wire[0] << 8 | x.wire[1]);
+    return e;
+}
+
+bool expects_answer(uint8_t cmd) { return cmd >= 0x40 && cmd <= 0x49 && cmd != 0x45; }
+
+// driver error code for a status (the contract in twh.h)
+int rc_of(uint8_t status, uint8_t cmd) {
+    if (status == TWH_ST_NO_RESPONSE && !expects_answer(cmd))
+        return TWH_OK;
+    if (status > TWH_ST_CANCELLED)
+        return TWH_ERR_HW_STATUS;
+    return -static_cast<int>(status);
+}
+
+// the frame the host must put on the line for (cmd, payload)
+int frame_of(uint8_t cmd, uint16_t payload, uint8_t *f) {
+    int n = 0;
+    f[n++] = cmd;
+    if (cmd >= 0x80)
+        f[n++] = static_cast<uint8_t>(payload >> 8);
+    f[n++] = static_cast<uint8_t>(payload);
+    uint8_t sum = 0;
+    for (int i = 0; i < n; ++i)
+        sum = static_cast<uint8_t>(sum + f[i]);
+    f[n++] = static_cast<uint8_t>(~sum);
+    return n;
+}
+
+std::string hex(const uint8_t *b, int n) {
+    std::string s;
+    char buf[4];
+    for (int i = 0; i < n; ++i) {
+        std::snprintf(buf, sizeof buf, i ? " %02X" : "%02X", b[i]);
+        s += buf;
+    }
+    return s;
+}
+
+struct Range {
+    double lo = 1e300, hi = -1e300;
+    uint64_t n = 0;
+    void add(double v) {
+        lo = std::min(lo, v);
+        hi = std::max(hi, v);
+        ++n;
+    }
+};
+
+// ------------------------------------------------------------ the harness
+class Soak {
+public:
+    explicit Soak(const Options &o);
+    int run();
+
+private:
+    // simulation
+    void tick();
+    void run_cycles(uint64_t n) {
+        while (n--)
+            tick();
+    }
+    uint32_t access(uint32_t off, bool we, uint32_t v);
+    static uint32_t h_read(void *ctx, uint32_t off) {
+        return static_cast<Soak *>(ctx)->access(off, false, 0);
+    }
+    static void h_write(void *ctx, uint32_t off, uint32_t v) {
+        static_cast<Soak *>(ctx)->access(off, true, v);
+    }
+    static void h_delay(void *ctx, uint32_t us) {
+        static_cast<Soak *>(ctx)->run_cycles(static_cast<uint64_t>(us) * CYC_PER_US);
+    }
+    static uint32_t h_wait_irq(void *ctx, uint32_t max_us) {
+        return static_cast<Soak *>(ctx)->wait_irq(max_us);
+    }
+    uint32_t wait_irq(uint32_t max_us);
+
+    // traffic
+    void setup();
+    void pick(int ch, uint8_t &cmd, uint16_t &payload);
+    void submit_one(int ch);
+    void try_factory(int ch);
+    void blocking_one(int ch);
+    bool collect();
+    void check_result(const twh_result_t &r);
+    const PeriphTxn *received(int ch, uint64_t seq, uint8_t cmd, uint16_t payload,
+                              const std::string &via);
+    int total_inflight() const {
+        int n = 0;
+        for (int c = 0; c < NCH; ++c)
+            n += inflight_[c];
+        return n;
+    }
+    void mismatch(const std::string &s);
+    void count_status(uint8_t s) { ++status_count_[s < 9 ? s : 9]; }
+    void digest(uint64_t v) {
+        for (int i = 0; i < 8; ++i) {
+            digest_ ^= (v >> (8 * i)) & 0xFF;
+            digest_ *= 0x100000001B3ull;
+        }
+    }
+    void report(double wall_s, double cpu_s);
+    bool spec_check();
+    void write_trace();
+
+    Options opt_;
+    std::unique_ptr<VerilatedContext> ctx_;
+    std::unique_ptr<Vsoak_top> top_;
+    uint64_t cyc_ = 0;
+    std::vector<std::unique_ptr<soak::Periph>> periph_;
+    std::vector<soak::HostMonitor> mon_;
+    std::mt19937_64 rng_;
+    twh_t t_{};
+    twh_platform_t plat_{};
+
+    struct Pending {
+        bool used = false;
+        uint64_t seq = 0;
+        uint8_t cmd = 0;
+        uint16_t payload = 0;
+    };
+    Pending pending_[NCH][TAGS];
+    int inflight_[NCH] = {};
+    uint64_t issued_on_[NCH] = {};     // line transactions issued per channel
+    uint64_t last_seq_[NCH] = {};      // in-order check of submitted results
+    bool have_last_[NCH] = {};
+    uint64_t issued_ = 0, checked_ = 0;
+
+    uint64_t accesses_ = 0, bus_errors_ = 0, irq_waits_ = 0;
+    uint64_t mismatches_ = 0, blocking_calls_ = 0, factory_refused_ = 0;
+    uint64_t status_count_[10] = {};
+    uint64_t helper_count_[9] = {};
+    uint64_t digest_ = 0xCBF29CE484222325ull;
+    std::vector<std::string> messages_;
+    bool stalled_ = false;
+};
+
+Soak::Soak(const Options &o) : opt_(o), ctx_(new VerilatedContext) {
+    top_.reset(new Vsoak_top(ctx_.get()));
+    // one seed drives the traffic and, derived from it, each device model
+    std::seed_seq seq{static_cast<uint32_t>(o.seed), static_cast<uint32_t>(o.seed >> 32)};
+    uint64_t seeds[NCH + 1];
+    {
+        std::vector<uint32_t> w(2 * (NCH + 1));
+        seq.generate(w.begin(), w.end());
+        for (int i = 0; i <= NCH; ++i)
+            seeds[i] = static_cast<uint64_t>(w[2 * i]) << 32 | w[2 * i + 1];
+    }
+    rng_.seed(seeds[NCH]);
+    const int nprof = static_cast<int>(sizeof SOAK_PROFILES / sizeof SOAK_PROFILES[0]);
+    for (int ch = 0; ch < NCH; ++ch) {
+        periph_.emplace_back(new soak::Periph(SOAK_PROFILES[ch % nprof], seeds[ch],
+                                              o.fault_rate, CLK_HZ));
+        mon_.emplace_back(CLK_HZ);
+    }
+    plat_.read32 = h_read;
+    plat_.write32 = h_write;
+    plat_.delay_us = h_delay;
+    plat_.wait_irq = h_wait_irq;
+    plat_.ctx = this;
+}
+
+// One clock: rising edge, the models see the new pins and answer, falling
+// edge (Verilator only sees an edge across two evaluations).
+void Soak::tick() {
+    Vsoak_top &d = *top_;
+    d.clk = 1;
+    d.eval();
+    ++cyc_;
+    const unsigned line = d.line, lo = d.line_o, loe = d.line_oe;
+    unsigned po = 0, poe = 0;
+    for (int ch = 0; ch < NCH; ++ch) {
+        soak::Periph &p = *periph_[static_cast<size_t>(ch)];
+        p.step(cyc_, line >> ch & 1u, loe >> ch & 1u);
+        mon_[static_cast<size_t>(ch)].step(cyc_, lo >> ch & 1u, loe >> ch & 1u);
+        po |= static_cast<unsigned>(p.o) << ch;
+        poe |= static_cast<unsigned>(p.oe) << ch;
+    }
+    d.periph_o = static_cast<uint8_t>(po);
+    d.periph_oe = static_cast<uint8_t>(poe);
+    d.clk = 0;
+    d.eval();
+}
+
+// One Wishbone classic access: the core takes the strobe at one edge and
+// answers (ack or err, registered) until the next, where the master sees the
+// answer and ends the access (rtl/twh_wb.v); anything else is counted as a
+// bus error.
+uint32_t Soak::access(uint32_t off, bool we, uint32_t v) {
+    Vsoak_top &d = *top_;
+    d.wb_adr_i = static_cast<uint16_t>(off);
+    d.wb_dat_i = v;
+    d.wb_we_i = we;
+    d.wb_sel_i = 0xF;
+    d.wb_cyc_i = 1;
+    d.wb_stb_i = 1;
+    tick();
+    const bool ack = d.wb_ack_o, err = d.wb_err_o;
+    const uint32_t data = d.wb_dat_o;
+    tick();
+    d.wb_cyc_i = 0;
+    d.wb_stb_i = 0;
+    d.wb_we_i = 0;
+    ++accesses_;
+    if (ack == err) {
+        ++bus_errors_;
+        char buf[96];
+        std::snprintf(buf, sizeof buf, "bus %s 0x%03X: %s", we ? "write" : "read", off,
+                      ack ? "ack and err" : "no answer one clock after the strobe");
+        mismatch(buf);
+    } else if (err) {
+        ++bus_errors_;
+        char buf[96];
+        std::snprintf(buf, sizeof buf, "bus %s 0x%03X = 0x%08X got a bus error", we ? "write" : "read",
+                      off, v);
+        mismatch(buf);
+    }
+    return data;
+}
+
+uint32_t Soak::wait_irq(uint32_t max_us) {
+    ++irq_waits_;
+    if (top_->irq)
+        return 1;
+    const uint64_t c0 = cyc_, lim = c0 + static_cast<uint64_t>(max_us) * CYC_PER_US;
+    while (!top_->irq && cyc_ < lim)
+        tick();
+    const uint64_t us = (cyc_ - c0) / CYC_PER_US;
+    return us ? static_cast<uint32_t>(us) : 1u;
+}
+
+void Soak::mismatch(const std::string &s) {
+    ++mismatches_;
+    if (messages_.size() < 30)
+        messages_.push_back(s);
+}
+
+// ------------------------------------------------------------ traffic
+void Soak::setup() {
+    Vsoak_top &d = *top_;
+    d.rst = 1;
+    d.wb_sel_i = 0xF;
+    run_cycles(8);
+    d.rst = 0;
+    tick();
+    const int rc = twh_init(&t_, &plat_);
+    if (rc != TWH_OK || t_.channels != NCH || t_.clk_khz != SOAK_CLK_HZ / 1000) {
+        std::fprintf(stderr, "soak: twh_init = %d, %u channels, %u kHz\n", rc, t_.channels,
+                     t_.clk_khz);
+        std::exit(1);
+    }
+    for (int ch = 0; ch < NCH; ++ch) {
+        const uint32_t t0 = CHARGE_US | static_cast<uint32_t>(SYNC_US) << 16;
+        const uint32_t t1 = PREAMBLE_US | static_cast<uint32_t>(EXECUTE_US) << 16;
+        const uint32_t t2 = LISTEN_US | static_cast<uint32_t>(TURNAROUND_US) << 16;
+        const uint32_t o0 = ch_off(ch, offsetof(twh_regs__channel_t__stride20_t, TIMING0));
+        const uint32_t o1 = ch_off(ch, offsetof(twh_regs__channel_t__stride20_t, TIMING1));
+        const uint32_t o2 = ch_off(ch, offsetof(twh_regs__channel_t__stride20_t, TIMING2));
+        access(o0, true, t0);
+        access(o1, true, t1);
+        access(o2, true, t2);
+        // the driver's own timing call reads back what the core kept
+        if (twh_set_execute_us(&t_, static_cast<uint8_t>(ch), EXECUTE_US) != TWH_OK ||
+            access(o0, false, 0) != t0 ||
+            access(o1, false, 0) != t1 || access(o2, false, 0) != t2) {
+            std::fprintf(stderr, "soak: channel %d refused the minimum spec timing\n", ch);
+            std::exit(1);
+        }
+    }
+}
+
+// A random command: the O2 cell's read commands, flash reads and find-free
+// (mostly inside the flash, some beyond it: no answer), writes and erases of
+// the field area, and a few reserved commands.
+void Soak::pick(int ch, uint8_t &cmd, uint16_t &payload) {
+    const unsigned size = periph_[static_cast<size_t>(ch)]->device().profile().size;
+    auto addr_any = [&]() -> unsigned {
+        return rng_() % 100 < 85 ? static_cast<unsigned>(rng_() % size)
+                                 : static_cast<unsigned>(rng_() % 0x200);
+    };
+    auto addr_field = [&]() -> unsigned {
+        return rng_() % 100 < 90 ? TWH_CAL_START + static_cast<unsigned>(rng_() % (size - TWH_CAL_START))
+                                 : TWH_CAL_START + static_cast<unsigned>(rng_() % (0x200 - TWH_CAL_START));
+    };
+    const unsigned r = static_cast<unsigned>(rng_() % 100);
+    payload = TWH_UNUSED_PAYLOAD;
+    if (r < 30) {
+        cmd = static_cast<uint8_t>(0x40 + rng_() % 5);
+    } else if (r < 78) {
+        const unsigned a = addr_any();
+        cmd = static_cast<uint8_t>((r < 70 ? TWH_CMD_READ : TWH_CMD_FIND_FREE) | a >> 8);
+        payload = static_cast<uint16_t>(a & 0xFFu);
+    } else if (r < 92) {
+        const unsigned a = addr_field();
+        uint16_t w = static_cast<uint16_t>(rng_() % TWH_BLANK);
+        twh_encode_write(static_cast<uint16_t>(a), w, &cmd, &payload);
+    } else if (r < 96) {
+        const unsigned a = addr_field();
+        cmd = static_cast<uint8_t>(TWH_CMD_ERASE | a >> 8);
+        payload = static_cast<uint16_t>(a & 0xFFu);
+    } else {
+        static const uint8_t reserved[] = {0x00, 0x21, 0x3F, 0x45, 0x4C, 0x60, 0x7F};
+        cmd = reserved[rng_() % sizeof reserved];
+        payload = static_cast<uint16_t>(rng_() & 0xFFu);
+    }
+}
+
+void Soak::submit_one(int ch) {
+    uint8_t cmd;
+    uint16_t payload;
+    pick(ch, cmd, payload);
+    const int tag = twh_submit(&t_, static_cast<uint8_t>(ch), cmd, payload);
+    if (tag < 0 || tag >= TAGS) {
+        mismatch("twh_submit(ch" + std::to_string(ch) + ") = " + std::to_string(tag));
+        return;
+    }
+    Pending &p = pending_[ch][tag];
+    if (p.used)
+        mismatch("tag " + std::to_string(tag) + " handed out again while in flight");
+    p.used = true;
+    p.seq = issued_on_[ch]++;
+    p.cmd = cmd;
+    p.payload = payload;
+    ++inflight_[ch];
+    ++issued_;
+}
+
+// The driver refuses erase/write of words 0x00-0x1F before any bus access.
+void Soak::try_factory(int ch) {
+    uint8_t cmd;
+    uint16_t payload;
+    const uint16_t a = static_cast<uint16_t>(rng_() % TWH_FACTORY_END);
+    if (rng_() & 1u) {
+        cmd = static_cast<uint8_t>(TWH_CMD_ERASE);
+        payload = a;
+    } else {
+        twh_encode_write(a, static_cast<uint16_t>(rng_() % TWH_BLANK), &cmd, &payload);
+    }
+    const uint64_t before = accesses_;
+    const int rc = twh_submit(&t_, static_cast<uint8_t>(ch), cmd, payload);
+    if (rc != TWH_ERR_BAD_ARG || accesses_ != before)
+        mismatch("factory-area command 0x" + std::to_string(cmd) + " not refused by the driver (rc " +
+                 std::to_string(rc) + ")");
+    ++factory_refused_;
+}
+
+// The record of line transaction `seq` of a channel, when the peripheral
+// followed the host through it and received exactly the frame (cmd,
+// payload) must produce; otherwise a mismatch and nullptr.
+const PeriphTxn *Soak::received(int ch, uint64_t seq, uint8_t cmd, uint16_t payload,
+                                const std::string &via) {
+    ++checked_;
+    const auto &log = periph_[static_cast<size_t>(ch)]->log;
+    char head[96];
+    std::snprintf(head, sizeof head, ": ch%d #%" PRIu64 " cmd 0x%02X: ", ch, seq, cmd);
+    if (seq >= log.size()) {
+        mismatch(via + head + "never reached the peripheral");
+        return nullptr;
+    }
+    const PeriphTxn &x = log[seq];
+    if (!x.error.empty()) {
+        mismatch(via + head + "the peripheral could not follow the host: " + x.error +
+                 " (frame so far [" + hex(x.frame, x.flen) + "])");
+        return nullptr;
+    }
+    uint8_t f[4];
+    const int n = frame_of(cmd, payload, f);
+    if (x.flen != n || std::memcmp(x.frame, f, static_cast<size_t>(n)) != 0) {
+        mismatch(via + head + "the line carried [" + hex(x.frame, x.flen) + "], expected [" +
+                 hex(f, n) + "]");
+        return nullptr;
+    }
+    return &x;
+}
+
+void Soak::check_result(const twh_result_t &r) {
+    count_status(r.status);
+    if (r.channel >= NCH || r.tag >= TAGS || !pending_[r.channel][r.tag].used) {
+        mismatch("result for nothing in flight: ch" + std::to_string(r.channel) + " tag " +
+                 std::to_string(r.tag));
+        return;
+    }
+    Pending &p = pending_[r.channel][r.tag];
+    p.used = false;
+    --inflight_[r.channel];
+    if (r.cmd != p.cmd)
+        mismatch("ch" + std::to_string(r.channel) + " tag " + std::to_string(r.tag) +
+                 ": result carries command " + std::to_string(r.cmd) + ", submitted " +
+                 std::to_string(p.cmd));
+    if (have_last_[r.channel] && p.seq <= last_seq_[r.channel])
+        mismatch("ch" + std::to_string(r.channel) + ": results out of order");
+    have_last_[r.channel] = true;
+    last_seq_[r.channel] = p.seq;
+    digest(static_cast<uint64_t>(r.channel) << 56 | static_cast<uint64_t>(r.cmd) << 48 |
+           static_cast<uint64_t>(r.status) << 40 | static_cast<uint64_t>(r.data) << 24 |
+           (p.seq & 0xFFFFFF));
+    const PeriphTxn *x = received(r.channel, p.seq, p.cmd, p.payload, "twh_result");
+    if (!x)
+        return;
+    const Expect e = predict(*x);
+    if (r.status != e.status || r.data != e.data) {
+        char buf[320];
+        std::snprintf(buf, sizeof buf,
+                      "twh_result: ch%u #%" PRIu64 " cmd 0x%02X: got %s 0x%04X; the peripheral sent "
+                      "[%s] (fault %s%s, %.0f baud, %.3f MHz, duty %.2f, %d stop bits): expected %s 0x%04X",
+                      r.channel, p.seq, p.cmd, status_name(r.status), r.data,
+                      hex(x->wire, x->answered ? x->nwire : 0).c_str(), soak::fault_name(x->fault),
+                      x->fault == Fault::StopBit ? (" in byte " + std::to_string(x->fault_byte)).c_str() : "",
+                      x->baud, x->carrier_hz / 1e6, x->duty, x->stop_bits, status_name(e.status), e.data);
+        mismatch(buf);
+    }
+}
+
+// Pops every result ready; when none is, sleeps on irq (the result
+// threshold, IRQ_EN.RESULT set by twh_init). False when nothing came for a
+// simulated second.
+bool Soak::collect() {
+    if (twh_poll(&t_) == 0 && wait_irq(1000000) >= 1000000 && !top_->irq) {
+        mismatch("no result for a simulated second with " +
+                 std::to_string(total_inflight()) + " in flight");
+        stalled_ = true;
+        return false;
+    }
+    twh_result_t r;
+    int rc;
+    while ((rc = twh_result(&t_, &r)) == TWH_OK)
+        check_result(r);
+    if (rc != TWH_ERR_AGAIN)
+        mismatch("twh_result = " + std::to_string(rc));
+    return true;
+}
+
+// A blocking helper on one channel. Results of other commands that arrive
+// while it waits go to the driver's stash (TWH_STASH_SIZE entries): first
+// let the number in flight drop to what the stash can hold.
+void Soak::blocking_one(int ch) {
+    while (total_inflight() > TWH_STASH_SIZE && !stalled_)
+        collect();
+    if (stalled_)
+        return;
+    const uint8_t c8 = static_cast<uint8_t>(ch);
+    const uint64_t s0 = issued_on_[ch];
+    const unsigned size = periph_[static_cast<size_t>(ch)]->device().profile().size;
+    const unsigned kind = static_cast<unsigned>(rng_() % 9);
+    const uint16_t addr = static_cast<uint16_t>(rng_() % 100 < 90 ? rng_() % size : rng_() % 0x200);
+    const uint16_t field = static_cast<uint16_t>(TWH_CAL_START + rng_() % (size - TWH_CAL_START));
+    const uint16_t word = static_cast<uint16_t>(rng_() % TWH_BLANK);
+    ++blocking_calls_;
+    ++helper_count_[kind];
+    int rc = 0, want = 0;
+    uint64_t n = 1;
+    std::string what;
+    // the k-th transaction of this call: what the driver must have seen
+    auto st = [&](uint64_t k, uint8_t cmd, uint16_t payload, Expect &e) -> bool {
+        const PeriphTxn *x = received(ch, s0 + k, cmd, payload, what);
+        if (!x)
+            return false;
+        e = predict(*x);
+        digest(static_cast<uint64_t>(ch) << 56 | static_cast<uint64_t>(cmd) << 48 |
+               static_cast<uint64_t>(e.status) << 40 | static_cast<uint64_t>(e.data) << 24 |
+               ((s0 + k) & 0xFFFFFF));
+        return true;
+    };
+    auto out16 = [&](unsigned got, unsigned expect) {
+        if (rc == TWH_OK && got != expect) {
+            char buf[96];
+            std::snprintf(buf, sizeof buf, " on ch%d: value 0x%04X, expected 0x%04X", ch, got, expect);
+            mismatch(what + buf);
+        }
+    };
+    Expect e;
+    uint8_t cmd = 0;
+    uint16_t payload = TWH_UNUSED_PAYLOAD;
+    switch (kind) {
+    case 0: case 1: case 2: {        // ADC readings: 12 bits
+        static const char *names[] = {"twh_ref_voltage", "twh_temperature", "twh_o2_voltage"};
+        what = names[kind];
+        cmd = static_cast<uint8_t>(TWH_CMD_REF_VOLTAGE + kind);
+        uint16_t v = 0;
+        rc = kind == 0 ? twh_ref_voltage(&t_, c8, &v)
+           : kind == 1 ? twh_temperature(&t_, c8, &v) : twh_o2_voltage(&t_, c8, &v);
+        if (st(0, cmd, payload, e)) {
+            want = rc_of(e.status, cmd);
+            out16(v, e.data & 0xFFFu);
+        }
+        break;
+    }
+    case 3: {
+        what = "twh_firmware";
+        cmd = TWH_CMD_FIRMWARE;
+        twh_fw_t fw{};
+        rc = twh_firmware(&t_, c8, &fw);
+        if (st(0, cmd, payload, e)) {
+            want = rc_of(e.status, cmd);
+            out16(static_cast<unsigned>(fw.raw << 8 | fw.type), e.data);
+        }
+        break;
+    }
+    case 4: {
+        what = "twh_config";
+        cmd = TWH_CMD_CONFIG;
+        uint8_t bits = 0;
+        uint16_t words = 0;
+        rc = twh_config(&t_, c8, &bits, &words);
+        if (st(0, cmd, payload, e)) {
+            want = rc_of(e.status, cmd);
+            out16(static_cast<unsigned>(bits) << 9 | words, e.data);
+        }
+        break;
+    }
+    case 5: {
+        what = "twh_read_word";
+        twh_encode_addr(TWH_CMD_READ, addr, &cmd, &payload);
+        uint16_t w = 0;
+        rc = twh_read_word(&t_, c8, addr, &w);
+        if (st(0, cmd, payload, e)) {
+            want = rc_of(e.status, cmd);
+            out16(w, e.data & TWH_WORD_MASK);
+        }
+        break;
+    }
+    case 6: {
+        what = "twh_find_free";
+        twh_encode_addr(TWH_CMD_FIND_FREE, addr, &cmd, &payload);
+        uint16_t a = 0;
+        rc = twh_find_free(&t_, c8, addr, &a);
+        if (st(0, cmd, payload, e)) {
+            want = rc_of(e.status, cmd);
+            if (want == TWH_OK && (e.data < addr || e.data > TWH_ADDR_MAX + 1u))
+                want = TWH_ERR_BAD_RESPONSE;
+            out16(a, e.data);
+        }
+        break;
+    }
+    case 7: {
+        what = "twh_erase_page";
+        twh_encode_addr(TWH_CMD_ERASE, field, &cmd, &payload);
+        rc = twh_erase_page(&t_, c8, field);
+        if (st(0, cmd, payload, e))
+            want = rc_of(e.status, cmd);
+        break;
+    }
+    default: {                      // write, then the driver reads it back
+        what = "twh_write_word";
+        twh_encode_write(field, word, &cmd, &payload);
+        rc = twh_write_word(&t_, c8, field, word);
+        if (!st(0, cmd, payload, e))
+            break;
+        want = rc_of(e.status, cmd);
+        if (want != TWH_OK)
+            break;
+        n = 2;
+        twh_encode_addr(TWH_CMD_READ, field, &cmd, &payload);
+        if (!st(1, cmd, payload, e))
+            break;
+        want = rc_of(e.status, cmd);
+        if (want == TWH_OK && (e.data & TWH_WORD_MASK) != word)
+            want = TWH_ERR_VERIFY;
+        break;
+    }
+    }
+    if (rc != want)
+        mismatch(what + " on ch" + std::to_string(ch) + " returned " + std::to_string(rc) +
+                 ", expected " + std::to_string(want));
+    // nothing else may have reached this line meanwhile
+    const uint64_t seen = periph_[static_cast<size_t>(ch)]->log.size();
+    if (seen != s0 + n)
+        mismatch(what + " on ch" + std::to_string(ch) + ": " + std::to_string(seen - s0) +
+                 " transactions on the line, expected " + std::to_string(n));
+    issued_on_[ch] = s0 + n;
+    issued_ += n;
+}
+
+// Every phase the model and the monitor measured, against the spec's table.
+bool Soak::spec_check() {
+    constexpr double TOL = 1.5;
+    Range charge, sync, pre, cmd3, cmd4, exec, listen, turn;
+    uint64_t bad = 0;
+    auto need = [&](bool ok, int ch, uint64_t i, const char *what, double v) {
+        if (ok)
+            return;
+        ++bad;
+        char buf[128];
+        std::snprintf(buf, sizeof buf, "spec: ch%d transaction #%" PRIu64 ": %s %.2f us", ch, i, what, v);
+        mismatch(buf);
+    };
+    for (int ch = 0; ch < NCH; ++ch) {
+        const auto &log = periph_[static_cast<size_t>(ch)]->log;
+        const double exec_max = periph_[static_cast<size_t>(ch)]->device().profile().exec_max_us;
+        for (uint64_t i = 0; i < log.size(); ++i) {
+            const PeriphTxn &x = log[i];
+            if (!x.error.empty())
+                continue;                     // reported by the result checks
+            charge.add(x.charge_us);
+            sync.add(x.sync_us);
+            pre.add(x.preamble_us);
+            (x.flen == 4 ? cmd4 : cmd3).add(x.command_us);
+            exec.add(x.execute_us);
+            need(x.charge_us >= 7000 - TOL, ch, i, "charge", x.charge_us);
+            need(x.sync_us >= 900 - TOL && x.sync_us <= 1100 + TOL, ch, i, "sync", x.sync_us);
+            need(x.preamble_us >= 1800 - TOL && x.preamble_us <= 2200 + TOL, ch, i, "preamble", x.preamble_us);
+            need(x.command_us >= 1000 - TOL && x.command_us <= 1500 + TOL, ch, i, "command", x.command_us);
+            need(x.execute_us >= 3500 - TOL && x.execute_us <= exec_max + TOL, ch, i, "execute", x.execute_us);
+        }
+        const soak::HostMonitor &m = mon_[static_cast<size_t>(ch)];
+        for (uint64_t i = 0; i < m.listen_us.size(); ++i) {
+            listen.add(m.listen_us[i]);
+            need(m.listen_us[i] >= 2000 - TOL, ch, i, "listen", m.listen_us[i]);
+        }
+        for (uint64_t i = 0; i < m.turnaround_us.size(); ++i) {
+            turn.add(m.turnaround_us[i]);
+            need(m.turnaround_us[i] >= 2000 - TOL, ch, i, "turnaround", m.turnaround_us[i]);
+        }
+        for (const std::string &v : m.violations) {
+            ++bad;
+            mismatch("spec: ch" + std::to_string(ch) + ": " + v);
+        }
+        // every transaction the peripheral saw had its listen window
+        if (m.listen_us.size() + 1 < log.size())
+            mismatch("spec: ch" + std::to_string(ch) + ": " + std::to_string(m.listen_us.size()) +
+                     " listen windows for " + std::to_string(log.size()) + " transactions");
+    }
+    auto row = [](const char *name, const Range &r) {
+        if (r.n)
+            std::printf("  %-18s %9.1f - %9.1f us  (%" PRIu64 ")\n", name, r.lo, r.hi, r.n);
+    };
+    std::printf("phases on the lines (spec window checked for every one):\n");
+    row("charge", charge);
+    row("sync", sync);
+    row("preamble", pre);
+    row("command, 3 bytes", cmd3);
+    row("command, 4 bytes", cmd4);
+    row("execute", exec);
+    row("listen", listen);
+    row("turnaround", turn);
+    double pmin = 1e9, pmax = 0, dmin = 1, dmax = 0;
+    uint64_t periods = 0;
+    for (const auto &m : mon_) {
+        pmin = std::min(pmin, m.period_min_us);
+        pmax = std::max(pmax, m.period_max_us);
+        dmin = std::min(dmin, m.duty_min);
+        dmax = std::max(dmax, m.duty_max);
+        periods += m.periods;
+    }
+    std::printf("  host carrier: %" PRIu64 " periods, %.3f - %.3f us, duty %.0f - %.0f %%\n", periods,
+                pmin, pmax, 100 * dmin, 100 * dmax);
+    return bad == 0;
+}
+
+void Soak::write_trace() {
+    FILE *f = std::fopen(opt_.trace_logic.c_str(), "w");
+    if (!f) {
+        mismatch("cannot write " + opt_.trace_logic);
+        return;
+    }
+    std::fprintf(f, "# channel profile frame -> device answer (MSB LSB) or -\n");
+    for (int ch = 0; ch < NCH; ++ch) {
+        const soak::Periph &p = *periph_[static_cast<size_t>(ch)];
+        for (const PeriphTxn &x : p.log) {
+            if (!x.error.empty() && std::strcmp(x.error.c_str(), "execute phase too long") != 0)
+                continue;                   // never handled
+            std::fprintf(f, "%d %s %s -> ", ch, p.device().profile().name, hex(x.frame, x.flen).c_str());
+            if (x.answers)
+                std::fprintf(f, "%02X %02X\n", x.dev_msb, x.dev_lsb);
+            else
+                std::fprintf(f, "-\n");
+        }
+    }
+    std::fclose(f);
+}
+
+void Soak::report(double wall_s, double cpu_s) {
+    uint64_t faults[5] = {}, stop_on_zero = 0, answered = 0, total = 0, errors = 0;
+    Range baud, carrier, duty;
+    for (const auto &p : periph_) {
+        for (const PeriphTxn &x : p->log) {
+            ++total;
+            if (!x.error.empty()) {
+                ++errors;
+                continue;
+            }
+            if (!x.answers)
+                continue;
+            ++faults[static_cast<int>(x.fault)];
+            if (x.fault == Fault::StopBit && x.wire[x.fault_byte] == 0)
+                ++stop_on_zero;
+            if (x.answered) {
+                ++answered;
+                baud.add(x.baud);
+                carrier.add(x.carrier_hz / 1e6);
+                duty.add(100 * x.duty);
+            }
+        }
+    }
+    std::printf("transactions checked: %" PRIu64 "; statuses popped with twh_result:", checked_);
+    for (unsigned s = 0; s < 10; ++s)
+        if (status_count_[s])
+            std::printf(" %s %" PRIu64, status_name(s), status_count_[s]);
+    std::printf("\n");
+    static const char *helpers[9] = {"ref_voltage", "temperature", "o2_voltage", "firmware", "config",
+                                     "read_word", "find_free", "erase_page", "write_word"};
+    std::printf("blocking helpers: %" PRIu64 " calls (", blocking_calls_);
+    for (int k = 0; k < 9; ++k)
+        std::printf("%s%s %" PRIu64, k ? ", " : "", helpers[k], helper_count_[k]);
+    std::printf(")\n");
+    std::printf("answers: %" PRIu64 " with an answer from the device; faults injected: no response %" PRIu64
+                ", bad checksum %" PRIu64 ", stop bit 0 %" PRIu64 " (%" PRIu64
+                " on a 0x00 byte: a break), short %" PRIu64 "\n",
+                faults[0] + faults[1] + faults[2] + faults[3] + faults[4], faults[1], faults[2],
+                faults[3], stop_on_zero, faults[4]);
+    if (answered)
+        std::printf("answers on the line: %" PRIu64 ", %.0f-%.0f baud, carrier %.3f-%.3f MHz, duty %.0f-%.0f %%\n",
+                    answered, baud.lo, baud.hi, carrier.lo, carrier.hi, duty.lo, duty.hi);
+    std::printf("driver: %" PRIu64 " bus accesses, %" PRIu64 " interrupt waits, %" PRIu64
+                " factory-area commands refused before the bus\n",
+                accesses_, irq_waits_, factory_refused_);
+    uint64_t collisions = 0;
+    for (const auto &p : periph_)
+        collisions += p->collisions;
+    std::printf("peripheral reception errors: %" PRIu64 "; collisions: %" PRIu64 "; bus errors: %" PRIu64
+                "\n", errors, collisions, bus_errors_);
+    const double sim_ms = static_cast<double>(cyc_) / CLK_HZ * 1e3;
+    // the machine may be shared: CPU time shows what the soak itself cost
+    std::printf("simulated %.1f ms (%" PRIu64 " clocks at %.0f MHz) in %.2f s wall, %.2f s CPU\n",
+                sim_ms, cyc_, CLK_HZ / 1e6, wall_s, cpu_s);
+    char rate[256];
+    std::snprintf(rate, sizeof rate,
+                  "rate: %.1f transactions/s, %.1f simulated ms/s per wall second\n"
+                  "      %.1f transactions/s, %.1f simulated ms/s per CPU second\n",
+                  static_cast<double>(total) / wall_s, sim_ms / wall_s,
+                  static_cast<double>(total) / cpu_s, sim_ms / cpu_s);
+    std::printf("%s", rate);
+    if (!opt_.rate_file.empty()) {
+        FILE *f = std::fopen(opt_.rate_file.c_str(), "w");
+        if (f) {
+            std::fprintf(f, "Verilator, this run (%" PRIu64 " transactions, seed %" PRIu64 "):\n%s",
+                         total, opt_.seed, rate);
+            std::fclose(f);
+        }
+    }
+    std::printf("digest: %016" PRIx64 " (same seed, same digest)\n", digest_);
+}
+
+int Soak::run() {
+    std::printf("soak: seed %" PRIu64 "%s, %" PRIu64 " transactions on %d channels (",
+                opt_.seed, opt_.seed_given ? "" : " (fresh)", opt_.transactions, NCH);
+    for (int ch = 0; ch < NCH; ++ch)
+        std::printf("%s%s", ch ? ", " : "", periph_[static_cast<size_t>(ch)]->device().profile().name);
+    std::printf("), fault rate %.2f, %d in flight per channel, blocking rate %.2f\n", opt_.fault_rate,
+                opt_.depth, opt_.blocking_rate);
+    std::printf("replay: --seed %" PRIu64 " --transactions %" PRIu64 " --fault-rate %g --depth %d "
+                "--blocking-rate %g\n",
+                opt_.seed, opt_.transactions, opt_.fault_rate, opt_.depth, opt_.blocking_rate);
+    std::fflush(stdout);
+    const auto w0 = std::chrono::steady_clock::now();
+    const std::clock_t c0 = std::clock();
+    setup();
+    uint64_t next_progress = opt_.progress;
+    std::uniform_real_distribution<double> u01(0.0, 1.0);
+    int first = 0;
+    while ((issued_ < opt_.transactions || total_inflight() > 0) && !stalled_) {
+        // keep every channel busy; start at a different channel each round
+        for (int k = 0; k < NCH && issued_ < opt_.transactions && !stalled_; ++k) {
+            const int ch = (first + k) % NCH;
+            while (inflight_[ch] < opt_.depth && issued_ < opt_.transactions && !stalled_) {
+                const double r = u01(rng_);
+                if (r < opt_.blocking_rate)
+                    blocking_one(ch);
+                else {
+                    if (r > 0.995)
+                        try_factory(ch);
+                    submit_one(ch);
+                }
+            }
+        }
+        first = (first + 1) % NCH;
+        collect();
+        if (opt_.progress && issued_ >= next_progress) {
+            const double w = std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
+            std::printf("  %" PRIu64 " transactions, simulated %.1f s, %.1f s wall, %" PRIu64 " mismatches\n",
+                        issued_, static_cast<double>(cyc_) / CLK_HZ, w, mismatches_);
+            std::fflush(stdout);
+            next_progress += opt_.progress;
+        }
+    }
+    // let the last turnarounds finish, so every listen window is closed
+    run_cycles(3000 * CYC_PER_US);
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
+    const double cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
+    // nothing left over: every line transaction was checked, the core is idle
+    for (int ch = 0; ch < NCH; ++ch)
+        if (periph_[static_cast<size_t>(ch)]->log.size() != issued_on_[ch])
+            mismatch("ch" + std::to_string(ch) + ": " +
+                     std::to_string(periph_[static_cast<size_t>(ch)]->log.size()) +
+                     " transactions on the line, " + std::to_string(issued_on_[ch]) + " issued");
+    const uint32_t status = access(reg_off(offsetof(twh_regs_t, STATUS)), false, 0);
+    const uint32_t errors = access(reg_off(offsetof(twh_regs_t, ERRORS)), false, 0);
+    if ((status & TWH_REGS__STATUS__BUSY_bm) || !(status & TWH_REGS__STATUS__RES_EMPTY_bm) ||
+        !(status & TWH_REGS__STATUS__CMD_EMPTY_bm))
+        mismatch("core not idle and empty at the end: STATUS 0x" + std::to_string(status));
+    // link errors are expected (injected faults); nothing else may be flagged
+    if (errors & ~static_cast<uint32_t>(TWH_REGS__ERRORS__LINK_ERROR_bm))
+        mismatch("ERRORS = " + std::to_string(errors));
+    for (int ch = 0; ch < NCH; ++ch)
+        if (periph_[static_cast<size_t>(ch)]->collisions)
+            mismatch("ch" + std::to_string(ch) + ": the host drove the line during an answer for " +
+                     std::to_string(periph_[static_cast<size_t>(ch)]->collisions) + " clocks");
+    const bool spec_ok = spec_check();
+    if (!opt_.trace_logic.empty())
+        write_trace();
+    report(wall, cpu);
+    top_->final();
+    if (mismatches_) {
+        std::printf("FAIL: %" PRIu64 " mismatches%s; first ones:\n", mismatches_,
+                    spec_ok ? "" : " (spec-timing breaches among them)");
+        for (const std::string &m : messages_)
+            std::printf("  %s\n", m.c_str());
+        std::printf("replay with --seed %" PRIu64 "\n", opt_.seed);
+        return 1;
+    }
+    std::printf("PASS: %" PRIu64 " transactions, every result matched the peripheral's record\n", checked_);
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char **argv) {
+    Options o = parse(argc, argv);
+    if (!o.seed_given)
+        o.seed = (static_cast<uint64_t>(std::random_device{}()) << 32 | std::random_device{}()) & 0xFFFFFFFFFFFFull;
+    Verilated::commandArgs(argc, argv);
+    Soak s(o);
+    return s.run();
+}
