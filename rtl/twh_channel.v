@@ -132,7 +132,10 @@ module twh_channel #(
     wire poll_go  = poll_en && poll_due && enable;
     wire use_poll = poll_go && (prefer_poll || !slot_go);
     wire issue    = use_poll || slot_go;
-    wire taken    = issue && eng_ready;
+    // The choice is registered, so the engine's inputs start from flip-flops;
+    // it lags the slot and poll state by one clock, which only delays a start.
+    reg  issue_q, use_poll_q;
+    wire taken    = issue_q && eng_ready;
 
     always @(posedge clk) begin
         if (rst) begin
@@ -144,18 +147,22 @@ module twh_channel #(
             prefer_poll  <= 1'b0;
             poll_timer   <= 15'd1;
             poll_due     <= 1'b0;
+            issue_q      <= 1'b0;
+            use_poll_q   <= 1'b0;
         end else begin
+            issue_q    <= issue && !taken;
+            use_poll_q <= use_poll;
             if (slot_load) begin
                 slot_full    <= 1'b1;
                 slot_cmd     <= slot_cmd_i;
                 slot_payload <= slot_payload_i;
                 slot_tag     <= slot_tag_i;
                 slot_skip    <= slot_skip_i;
-            end else if (taken && !use_poll) begin
+            end else if (taken && !use_poll_q) begin
                 slot_full    <= 1'b0;
             end
-            if (cancel && slot_full && !(taken && !use_poll)) slot_skip <= `TWH_ST_CANCELLED;
-            if (taken) prefer_poll <= !use_poll;
+            if (cancel && slot_full && !(taken && !use_poll_q)) slot_skip <= `TWH_ST_CANCELLED;
+            if (taken) prefer_poll <= !use_poll_q;
 
             if (!poll_en) begin
                 poll_timer <= 15'd1;          // first poll at the next millisecond
@@ -169,7 +176,7 @@ module twh_channel #(
                         poll_timer <= poll_timer - 1'b1;
                     end
                 end
-                if (taken && use_poll) poll_due <= 1'b0;
+                if (taken && use_poll_q) poll_due <= 1'b0;
             end
         end
     end
@@ -190,11 +197,11 @@ module twh_channel #(
         .cfg_preamble_us(t_preamble), .cfg_execute_us(t_execute),
         .cfg_listen_us(t_listen), .cfg_turnaround_us(t_turnaround),
         .cfg_idle_charge(idle_charge), .cfg_unlock(lab),
-        .s_cmd_valid(issue), .s_cmd_ready(eng_ready),
-        .s_cmd_code(use_poll ? poll_cmd : slot_cmd),
-        .s_cmd_payload(use_poll ? {8'h00, poll_payload} : slot_payload),
-        .s_cmd_tag(use_poll ? 6'b100000 : {1'b0, slot_tag}),
-        .s_cmd_skip(use_poll ? 4'd0 : slot_skip),
+        .s_cmd_valid(issue_q), .s_cmd_ready(eng_ready),
+        .s_cmd_code(use_poll_q ? poll_cmd : slot_cmd),
+        .s_cmd_payload(use_poll_q ? {8'h00, poll_payload} : slot_payload),
+        .s_cmd_tag(use_poll_q ? 6'b100000 : {1'b0, slot_tag}),
+        .s_cmd_skip(use_poll_q ? 4'd0 : slot_skip),
         .m_res_valid(e_valid), .m_res_ready(e_ready),
         .m_res_code(e_code), .m_res_data(e_data), .m_res_status(e_status),
         .m_res_tag(e_tag),

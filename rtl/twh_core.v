@@ -108,7 +108,9 @@ module twh_core #(
     reg [7:0]  poll_ready;
 
     // ------------------------------------------------------------ command FIFO
-    // entry: {unlock, tag[4:0], channel[2:0], payload[15:0], cmd[7:0]}
+    // entry: {blocked, tag[4:0], channel[2:0], payload[15:0], cmd[7:0]}
+    // The factory-area verdict is taken on the way in, from the bus data, so
+    // the FIFO's RAM output drives no comparator on its way to the slot.
     wire [2:0]  push_ch   = reg_wdata[26:24];
     wire        push_req  = wr && !is_ch && g_reg == R_CMD_PUSH;
     wire        cmd_full, cmd_empty;
@@ -117,27 +119,39 @@ module twh_core #(
     wire        push_bad_ch = {1'b0, push_ch} >= CH_COUNT;
     wire        push_ok   = push_req && !push_bad_ch && !cmd_full;
 
+    // erase (0x4A/4B) or write (0x80-0xFF) addressed to words 0x00-0x1F
+    wire [7:0]  p_cmd     = reg_wdata[7:0];
+    wire [8:0]  p_erase_addr = {p_cmd[0], reg_wdata[15:8]};     // payload low byte
+    wire [8:0]  p_write_addr = {reg_wdata[23:22], p_cmd[6:0]};  // payload bits 15:14
+    wire        p_factory = ((p_cmd[7:1] == 7'b0100101) && (p_erase_addr < `TWH_FACTORY_END)) ||
+                            (p_cmd[7] && (p_write_addr < `TWH_FACTORY_END));
+    wire        p_blocked = p_factory && !factory_armed;
+
     wire [7:0]  h_cmd     = cmd_head[7:0];
     wire [15:0] h_payload = cmd_head[23:8];
     wire [2:0]  h_ch      = cmd_head[26:24];
     wire [4:0]  h_tag     = cmd_head[31:27];
-    wire        h_unlock  = cmd_head[32];
-    // erase (0x4A/4B) or write (0x80-0xFF) addressed to words 0x00-0x1F
-    wire [8:0]  h_erase_addr = {h_cmd[0], h_payload[7:0]};
-    wire [8:0]  h_write_addr = {h_payload[15:14], h_cmd[6:0]};
-    wire        h_factory = ((h_cmd[7:1] == 7'b0100101) && (h_erase_addr < `TWH_FACTORY_END)) ||
-                            (h_cmd[7] && (h_write_addr < `TWH_FACTORY_END));
+    wire        h_blocked = cmd_head[32];
 
     wire [CHANNELS-1:0] slot_full;
     wire [7:0] slot_full8;
     wire h_slot_free = !slot_full8[h_ch];
-    wire dispatch    = !cmd_empty && (enable || flushing) && h_slot_free;
-    wire [3:0] h_skip = flushing               ? `TWH_ST_CANCELLED :
-                        (h_factory && !h_unlock) ? `TWH_ST_BLOCKED : 4'd0;
+    // Dispatch is decided one clock and done the next: the decision reads the
+    // FIFO's RAM output (slow on iCE40), the pop and slot load then start
+    // from a flip-flop. The head and its slot cannot change in between.
+    reg  dispatch;
+    reg  [2:0] disp_ch;
+    always @(posedge clk) begin
+        if (rst) dispatch <= 1'b0;
+        else     dispatch <= !dispatch && !cmd_empty && (enable || flushing) && h_slot_free;
+        disp_ch <= h_ch;
+    end
+    wire [3:0] h_skip = flushing  ? `TWH_ST_CANCELLED :
+                        h_blocked ? `TWH_ST_BLOCKED : 4'd0;
 
     twh_fifo #(.W(33), .DEPTH(FIFO_DEPTH)) u_cmd_fifo (
         .clk(clk), .rst(rst),
-        .push(push_ok), .din({factory_armed, reg_wdata}), .full(cmd_full),
+        .push(push_ok), .din({p_blocked, reg_wdata}), .full(cmd_full),
         .pop(dispatch), .dout(cmd_head), .empty(cmd_empty), .level(cmd_level)
     );
 
@@ -192,7 +206,7 @@ module twh_core #(
                 .poll_result(c_pr[n*32 +: 32]), .state(c_st[n*32 +: 32]),
                 .value_refused(c_refused[n]), .poll_sample(c_sample[n]),
                 .poll_error(c_poll_err[n]),
-                .slot_load(dispatch && h_ch == n),
+                .slot_load(dispatch && disp_ch == n),
                 .slot_cmd_i(h_cmd), .slot_payload_i(h_payload), .slot_tag_i(h_tag),
                 .slot_skip_i(h_skip),
                 .cancel(wr && !is_ch && g_reg == R_CTRL && reg_wdata[1]),

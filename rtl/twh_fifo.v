@@ -31,15 +31,21 @@ module twh_fifo #(
     reg [AW:0]  wr_ptr, rd_ptr;
     reg         out_valid;
 
-    wire [AW:0] mem_count = wr_ptr - rd_ptr;
+    // level and full are registers, not sums of the pointers: a push is
+    // decided on `full`, and an adder in front of it would be the FIFO
+    // user's critical path.
+    reg [LW-1:0] level_r;
+    reg          full_r;
     wire        mem_empty = (wr_ptr == rd_ptr);
-    assign level = mem_count + {{AW{1'b0}}, out_valid};
-    assign full  = (level == DEPTH_L);
+    assign level = level_r;
+    assign full  = full_r;
     assign empty = !out_valid;
 
     wire do_push = push && !full;
     wire do_pop  = pop && out_valid;
     wire load    = !mem_empty && (!out_valid || do_pop);
+    wire [LW-1:0] level_next = level_r + {{(LW-1){1'b0}}, do_push}
+                                       - {{(LW-1){1'b0}}, do_pop};
 
     always @(posedge clk) begin
         if (do_push) mem[wr_ptr[AW-1:0]] <= din;
@@ -51,12 +57,102 @@ module twh_fifo #(
             wr_ptr    <= {(AW+1){1'b0}};
             rd_ptr    <= {(AW+1){1'b0}};
             out_valid <= 1'b0;
+            level_r   <= {LW{1'b0}};
+            full_r    <= 1'b0;
         end else begin
+            level_r   <= level_next;
+            full_r    <= (level_next == DEPTH_L);
             if (do_push) wr_ptr <= wr_ptr + 1'b1;
             if (load)    rd_ptr <= rd_ptr + 1'b1;
             if (load)         out_valid <= 1'b1;
             else if (do_pop)  out_valid <= 1'b0;
         end
     end
+
+`ifdef FORMAL
+    // No assumption on rst: the properties hold from the first reset on
+    // (f_ok), so they stay true, and get checked again, when a design that
+    // contains this FIFO is proven.
+    reg f_ok = 1'b0;
+    always @(posedge clk) if (rst) f_ok <= 1'b1;
+
+    // Reference occupancy from the interface alone: a push counts unless the
+    // FIFO already holds DEPTH words, a pop counts while the output is valid.
+    reg  [LW-1:0] f_count;
+    wire          f_push = push && (f_count != DEPTH_L);
+    wire          f_pop  = pop && !empty;
+    always @(posedge clk) begin
+        if (rst) f_count <= {LW{1'b0}};
+        else     f_count <= f_count + {{(LW-1){1'b0}}, f_push}
+                                    - {{(LW-1){1'b0}}, f_pop};
+    end
+
+    always @(*) begin
+        if (f_ok) begin
+            assert(f_count <= DEPTH_L);
+            assert(level == f_count);
+            assert(full == (f_count == DEPTH_L));
+            // a full FIFO drops the push, an empty one ignores the pop
+            assert(do_push == f_push);
+            assert(do_pop == f_pop);
+            // the output word is loaded one clock after it reaches an
+            // empty FIFO: `empty` may trail `level` by that one clock only
+            assert(!empty || level <= 1);
+            assert(out_valid || level == {{(LW-1){1'b0}}, !mem_empty});
+            assert(mem_count <= DEPTH);
+        end
+    end
+
+    reg f_past_ok = 1'b0;
+    always @(posedge clk) f_past_ok <= f_ok && !rst;
+    always @(posedge clk) begin
+        if (f_past_ok) begin
+            // a word pushed into an empty FIFO is on the output next clock
+            if ($past(empty && level != 0)) assert(!empty);
+            // no bubble: popping with more words stored shows the next at once
+            if ($past(f_pop && level > 1)) assert(!empty);
+        end
+    end
+
+    // Follow one arbitrary pushed word: f_pos counts the words ahead of it.
+    // It must reach the output unchanged, exactly when those words have
+    // been popped; as the word and the moment are arbitrary, every word
+    // leaves in push order.
+    (* anyseq *) reg f_pick;
+    reg          f_track;
+    reg [W-1:0]  f_data;
+    reg [LW-1:0] f_pos;
+    always @(posedge clk) begin
+        if (rst) begin
+            f_track <= 1'b0;
+        end else if (!f_track) begin
+            if (f_push && f_pick) begin
+                f_track <= 1'b1;
+                f_data  <= din;
+                f_pos   <= f_count - {{(LW-1){1'b0}}, f_pop};
+            end
+        end else if (f_pop) begin
+            if (f_pos == {LW{1'b0}}) f_track <= 1'b0;
+            else                     f_pos   <= f_pos - 1'b1;
+        end
+    end
+
+    // where the followed word is stored while it waits behind others
+    wire [AW:0] f_slot = rd_ptr + f_pos[AW:0] - {{AW{1'b0}}, out_valid};
+    always @(*) begin
+        if (f_ok && f_track) begin
+            assert(f_pos < f_count);
+            if (f_pos == {LW{1'b0}} && out_valid) assert(dout == f_data);
+            else assert(mem[f_slot[AW-1:0]] == f_data);
+        end
+    end
+
+    always @(posedge clk) begin
+        if (f_past_ok) begin
+            cover(full);
+            cover($past(f_track && f_pop && f_pos == {LW{1'b0}} && level == DEPTH_L));
+        end
+    end
+`endif
 endmodule
 `default_nettype wire

@@ -88,25 +88,44 @@ module twh_link #(
     twh_checksum u_rx_chk (
         .a(rx_bytes[23:16]), .b(rx_bytes[15:8]), .c(8'd0), .chk(rx_chk)
     );
+    // The verdict is registered: the last byte is complete at its stop
+    // bit's middle, a carrier period or more before the listen phase can end.
+    reg rx_chk_ok;
+    always @(posedge clk) rx_chk_ok <= (rx_chk == rx_bytes[7:0]);
 
     // ------------------------------------------------------------ command
     reg              pending;
     reg [7:0]        cmd_r;
     reg [TAG_W-1:0]  tag_r;
-    reg [31:0]       txd;        // frame bytes, next byte's next bit in [0]
+    reg [15:0]       pay_r;
+    reg [7:0]        chk_r;      // taken when the charge starts, off the line's path
     reg [3:0]        bitn;       // 0 start, 1-8 data, 9-10 stop
+    reg [1:0]        byten;      // frame byte on the line
 
-    wire long_cmd = s_cmd_code[7];          // 0x80-0xFF: 4-byte frame
+    // 0x80-0xFF: 4-byte frame {code, payload hi, payload lo, checksum};
+    // otherwise 3 bytes {code, payload lo, checksum}
+    wire long_cmd = cmd_r[7];
     wire [7:0] tx_chk;
     twh_checksum u_tx_chk (
-        .a(s_cmd_code),
-        .b(long_cmd ? s_cmd_payload[15:8] : s_cmd_payload[7:0]),
-        .c(long_cmd ? s_cmd_payload[7:0]  : 8'd0),
-        .chk(tx_chk)
+        .a(cmd_r), .b(long_cmd ? pay_r[15:8] : 8'd0), .c(pay_r[7:0]), .chk(tx_chk)
     );
+    reg [7:0] tx_byte;
+    always @(*) begin
+        case (byten)
+            2'd0:    tx_byte = cmd_r;
+            2'd1:    tx_byte = long_cmd ? pay_r[15:8] : pay_r[7:0];
+            2'd2:    tx_byte = long_cmd ? pay_r[7:0]  : chk_r;
+            default: tx_byte = chk_r;
+        endcase
+    end
 
-    assign s_cmd_ready = (ph == `TWH_PH_IDLE) && !pending && !m_res_valid;
-    wire accept = s_cmd_valid && s_cmd_ready;
+    // Registered, so the caller's arbitration does not start from the
+    // sequencer's state: it lags the true condition by a clock and is never
+    // high when that is low (only an accept sets pending or, for a skipped
+    // command, m_res_valid while idle, and only pending leaves idle).
+    reg rdy;
+    assign s_cmd_ready = rdy;
+    wire accept = s_cmd_valid && rdy;
 
     // ------------------------------------------------------------ sequencer
     reg [15:0] cnt;        // periods left in this phase, this one included
@@ -114,41 +133,45 @@ module twh_link #(
     reg        saw_low;    // the line read low during sync
     reg        saw_high;   // the line read high during preamble
 
-    function [15:0] clamp;
-        input [15:0] v, lo, hi;
-        input        unlock;
-        begin
-            if (unlock)       clamp = (v == 16'd0) ? 16'd1 : v;
-            else if (v < lo)  clamp = lo;
-            else if (v > hi)  clamp = hi;
-            else              clamp = v;
-        end
-    endfunction
-
-    // The next phase's length, registered a phase ahead: a phase lasts at
-    // least 1 us, so the value is settled long before it is loaded, and the
-    // one shared clamp stays off the tick path.
-    reg [15:0] nx_v, nx_lo, nx_hi;
-    reg        nx_fixed;      // not programmable: command length, hold-off
+    // The next phase's length, registered a phase ahead in two steps (pick
+    // the value, then clamp it): a phase lasts at least one carrier period,
+    // which is at least 4 clocks, so the value has settled long before it
+    // is loaded, and neither the six-way pick nor the clamp's comparators
+    // sit on one clock's path.
+    localparam [2:0] W_NONE = 3'd0, W_CHARGE = 3'd1, W_SYNC = 3'd2, W_PREAMBLE = 3'd3,
+                     W_EXECUTE = 3'd4, W_LISTEN = 3'd5, W_TURN = 3'd6;
+    reg [15:0] nx_v, pick_v;
+    reg [2:0]  nx_w, pick_w;        // which window applies (W_NONE: fixed length)
     always @(*) begin
-        nx_fixed = 1'b0;
-        nx_v  = cfg_charge_us;
-        nx_lo = `TWH_CHARGE_MIN;
-        nx_hi = `TWH_US_MAX;
         case (ph)
-            `TWH_PH_IDLE:     ;
-            `TWH_PH_CHARGE:   begin nx_v = cfg_sync_us;     nx_lo = `TWH_SYNC_MIN;     nx_hi = `TWH_SYNC_MAX;     end
-            `TWH_PH_SYNC:     begin nx_v = cfg_preamble_us; nx_lo = `TWH_PREAMBLE_MIN; nx_hi = `TWH_PREAMBLE_MAX; end
-            `TWH_PH_PREAMBLE: begin nx_v = cmd_r[7] ? 16'd1408 : 16'd1056; nx_fixed = 1'b1; end  // 44 / 33 bits of 32 us
-            `TWH_PH_COMMAND:  begin nx_v = cfg_execute_us;  nx_lo = `TWH_EXECUTE_MIN;  nx_hi = `TWH_EXECUTE_MAX;  end
-            `TWH_PH_EXECUTE:  begin nx_v = cfg_listen_us;   nx_lo = `TWH_LISTEN_MIN;   end
-            `TWH_PH_LISTEN:   begin nx_v = cfg_turnaround_us; nx_lo = `TWH_TURNAROUND_MIN; end
-            default:          begin nx_v = 16'd1; nx_fixed = 1'b1; end   // idle: no hold-off after a turnaround
+            `TWH_PH_IDLE:     begin nx_v = cfg_charge_us;     nx_w = W_CHARGE;   end
+            `TWH_PH_CHARGE:   begin nx_v = cfg_sync_us;       nx_w = W_SYNC;     end
+            `TWH_PH_SYNC:     begin nx_v = cfg_preamble_us;   nx_w = W_PREAMBLE; end
+            `TWH_PH_PREAMBLE: begin nx_v = cmd_r[7] ? 16'd1408 : 16'd1056; nx_w = W_NONE; end  // 44 / 33 bits of 32 us
+            `TWH_PH_COMMAND:  begin nx_v = cfg_execute_us;    nx_w = W_EXECUTE;  end
+            `TWH_PH_EXECUTE:  begin nx_v = cfg_listen_us;     nx_w = W_LISTEN;   end
+            `TWH_PH_LISTEN:   begin nx_v = cfg_turnaround_us; nx_w = W_TURN;     end
+            default:          begin nx_v = 16'd1;             nx_w = W_NONE;     end   // idle: no hold-off after a turnaround
+        endcase
+    end
+    reg [15:0] w_lo, w_hi;
+    always @(*) begin
+        case (pick_w)
+            W_CHARGE:   begin w_lo = `TWH_CHARGE_MIN;     w_hi = `TWH_US_MAX;       end
+            W_SYNC:     begin w_lo = `TWH_SYNC_MIN;       w_hi = `TWH_SYNC_MAX;     end
+            W_PREAMBLE: begin w_lo = `TWH_PREAMBLE_MIN;   w_hi = `TWH_PREAMBLE_MAX; end
+            W_EXECUTE:  begin w_lo = `TWH_EXECUTE_MIN;    w_hi = `TWH_EXECUTE_MAX;  end
+            W_LISTEN:   begin w_lo = `TWH_LISTEN_MIN;     w_hi = `TWH_US_MAX;       end
+            W_TURN:     begin w_lo = `TWH_TURNAROUND_MIN; w_hi = `TWH_US_MAX;       end
+            default:    begin w_lo = 16'd1;               w_hi = `TWH_US_MAX;       end
         endcase
     end
     always @(posedge clk) begin
-        if (nx_fixed) dur_next <= nx_v;
-        else          dur_next <= clamp(nx_v, nx_lo, nx_hi, cfg_unlock);
+        pick_v <= nx_v;
+        pick_w <= cfg_unlock ? W_NONE : nx_w;    // W_NONE: at least 1, no window
+        if (pick_v < w_lo)      dur_next <= w_lo;
+        else if (pick_v > w_hi) dur_next <= w_hi;
+        else                    dur_next <= pick_v;
     end
 
     wire last = (cnt == 16'd1);
@@ -159,7 +182,7 @@ module twh_link #(
         if (!saw_low)                  rx_status = `TWH_ST_LINE_STUCK_HIGH;
         else if (!saw_high)            rx_status = `TWH_ST_LINE_STUCK_LOW;
         else if (rx_frame_err)         rx_status = `TWH_ST_FRAMING;
-        else if (rx_n == 2'd3)         rx_status = (rx_chk == rx_bytes[7:0]) ? `TWH_ST_OK
+        else if (rx_n == 2'd3)         rx_status = rx_chk_ok ?                 `TWH_ST_OK
                                                                             : `TWH_ST_BAD_CHECKSUM;
         else if (rx_started)           rx_status = `TWH_ST_SHORT_RESPONSE;
         else                           rx_status = `TWH_ST_NO_RESPONSE;
@@ -168,13 +191,16 @@ module twh_link #(
 
     always @(posedge clk) begin
         if (rst) begin
+            rdy         <= 1'b0;
             ph          <= `TWH_PH_IDLE;
             cnt         <= `TWH_TURNAROUND_MIN;
             pending     <= 1'b0;
             cmd_r       <= 8'd0;
             tag_r       <= {TAG_W{1'b0}};
-            txd         <= 32'd0;
+            pay_r       <= 16'd0;
+            chk_r       <= 8'd0;
             bitn        <= 4'd0;
+            byten       <= 2'd0;
             saw_low     <= 1'b0;
             saw_high    <= 1'b0;
             m_res_valid <= 1'b0;
@@ -184,6 +210,7 @@ module twh_link #(
             m_res_tag   <= {TAG_W{1'b0}};
         end else begin
             if (m_res_valid && m_res_ready) m_res_valid <= 1'b0;
+            rdy <= (ph == `TWH_PH_IDLE) && !pending && !m_res_valid && !accept;
 
             if (accept && s_cmd_skip != 4'd0) begin
                 // blocked or cancelled upstream: the line is never touched
@@ -196,8 +223,7 @@ module twh_link #(
                 pending <= 1'b1;
                 cmd_r   <= s_cmd_code;
                 tag_r   <= s_cmd_tag;
-                txd     <= long_cmd ? {tx_chk, s_cmd_payload[7:0], s_cmd_payload[15:8], s_cmd_code}
-                                    : {8'hFF, tx_chk, s_cmd_payload[7:0], s_cmd_code};
+                pay_r   <= s_cmd_payload;
             end
 
             if (tick) begin
@@ -209,6 +235,7 @@ module twh_link #(
                         cnt <= cnt - 1'b1;           // post-reset hold-off
                     end else if (pending) begin
                         pending  <= 1'b0;
+                        chk_r    <= tx_chk;
                         ph       <= `TWH_PH_CHARGE;
                         cnt      <= dur_next;
                         saw_low  <= 1'b0;
@@ -218,13 +245,20 @@ module twh_link #(
                     cnt <= cnt - 1'b1;
                     // a new UART bit starts every 32 periods of the command
                     if (ph == `TWH_PH_COMMAND && cnt[4:0] == 5'd1) begin
-                        bitn <= (bitn == 4'd10) ? 4'd0 : bitn + 1'b1;
-                        if (bitn >= 4'd1 && bitn <= 4'd8) txd <= {1'b1, txd[31:1]};
+                        if (bitn == 4'd10) begin
+                            bitn  <= 4'd0;
+                            byten <= byten + 1'b1;
+                        end else begin
+                            bitn  <= bitn + 1'b1;
+                        end
                     end
                 end else begin
                     ph  <= ph + 1'b1;                // phases run in code order
                     cnt <= dur_next;
-                    if (ph == `TWH_PH_PREAMBLE) bitn <= 4'd0;
+                    if (ph == `TWH_PH_PREAMBLE) begin
+                        bitn  <= 4'd0;
+                        byten <= 2'd0;
+                    end
                     if (ph == `TWH_PH_LISTEN) begin
                         m_res_valid  <= 1'b1;
                         m_res_code   <= cmd_r;
@@ -240,7 +274,8 @@ module twh_link #(
     // ------------------------------------------------------------ line drive
     // The line follows the sequencer one clock later; every burst and gap
     // keeps its exact length.
-    wire tx_level = (bitn == 4'd0) ? 1'b0 : (bitn <= 4'd8) ? txd[0] : 1'b1;
+    wire [9:0] tx_char  = {1'b1, tx_byte, 1'b0};       // start, 8 data LSB first, stop
+    wire       tx_level = (bitn >= 4'd9) ? 1'b1 : tx_char[bitn];
     reg  carrier_on, drive;
     always @(*) begin
         case (ph)
@@ -275,5 +310,313 @@ module twh_link #(
 
     assign phase = ph;
     assign busy  = (ph != `TWH_PH_IDLE) || pending;
+
+`ifdef FORMAL
+    // ================================================================ formal
+    // The engine on its own (formal/twh_link.sby). Nothing is assumed: every
+    // input, rst and the line included, is free, and everything holds from
+    // the first reset on (f_ok). Durations are counted in carrier ticks; that
+    // a tick is one microsecond is twh_carrier's own proof. The checks at the
+    // pin and at clock level need whole carrier periods inside the induction
+    // window, so they are compiled in only with TWH_F_LINK_PINS (4 MHz job).
+    reg f_ok = 1'b0;
+    always @(posedge clk) if (rst) f_ok <= 1'b1;
+    // the previous clock ran after a reset and was no reset itself: $past
+    // and the stream rules apply
+    reg f_run = 1'b0;
+    always @(posedge clk) f_run <= f_ok && !rst;
+    // two clocks of history: the clamp pipeline's inputs are known
+    reg [1:0] f_hist = 2'b00;
+    always @(posedge clk) f_hist <= {f_hist[0], 1'b1};
+    // the configuration one and two clocks ago
+    reg [95:0] f_cfg1, f_cfg2;
+    reg        f_unl1, f_unl2;
+    always @(posedge clk) begin
+        f_cfg1 <= {cfg_charge_us, cfg_sync_us, cfg_preamble_us,
+                   cfg_execute_us, cfg_listen_us, cfg_turnaround_us};
+        f_cfg2 <= f_cfg1;
+        f_unl1 <= cfg_unlock;
+        f_unl2 <= f_unl1;
+    end
+
+    wire       f_txn   = (ph != `TWH_PH_IDLE) && (ph != `TWH_PH_TURNAROUND); // phases 1-6
+    wire       f_leave = tick && last && ((ph != `TWH_PH_IDLE) || pending);   // next phase loads
+    wire [2:0] f_nph   = (ph == `TWH_PH_IDLE) ? `TWH_PH_CHARGE : ph + 3'd1;
+
+    // ------------------------------------------------ the command and its result
+    // f_out: commands accepted minus results taken. The last accepted
+    // command is remembered as the caller sent it.
+    reg [1:0]       f_out = 2'd0;
+    reg [7:0]       f_code;
+    reg [15:0]      f_pay;
+    reg [TAG_W-1:0] f_tag;
+    reg [3:0]       f_skip;
+    always @(posedge clk) begin
+        if (rst) begin
+            f_out <= 2'd0;
+        end else begin
+            f_out <= f_out + {1'b0, accept} - {1'b0, m_res_valid && m_res_ready};
+            if (accept) begin
+                f_code <= s_cmd_code;
+                f_pay  <= s_cmd_payload;
+                f_tag  <= s_cmd_tag;
+                f_skip <= s_cmd_skip;
+            end
+        end
+    end
+
+    // The frame as the spec draws it, from the accepted command alone: each
+    // character is start (0), 8 data bits LSB first, 2 stop bits (1), sent
+    // first character first; bit k is on the line during command ticks
+    // 32k to 32k+31.
+    wire        f_long = f_code[7];
+    wire [7:0]  f_chk  = ~(f_code + (f_long ? f_pay[15:8] : 8'd0) + f_pay[7:0]);
+    wire [43:0] f_frame = f_long
+        ? {2'b11, f_chk, 1'b0, 2'b11, f_pay[7:0], 1'b0, 2'b11, f_pay[15:8], 1'b0, 2'b11, f_code, 1'b0}
+        : {11'h7FF, 2'b11, f_chk, 1'b0, 2'b11, f_pay[7:0], 1'b0, 2'b11, f_code, 1'b0};
+
+    // ------------------------------------------------ phase lengths
+    // f_dur: the length loaded for the current phase (2000 for the hold-off
+    // after reset); f_ticks: ticks of it already over; f_dur_unl: whether
+    // cfg_unlock was set when that length was picked.
+    reg [15:0] f_dur, f_ticks;
+    reg        f_dur_unl;
+    always @(posedge clk) begin
+        if (rst) begin
+            f_dur     <= `TWH_TURNAROUND_MIN;
+            f_ticks   <= 16'd0;
+            f_dur_unl <= 1'b0;
+        end else if (f_leave) begin
+            f_dur     <= dur_next;
+            f_ticks   <= 16'd0;
+            f_dur_unl <= f_unl2;
+        end else if (tick && !last) begin
+            f_ticks   <= f_ticks + 1'b1;
+        end
+    end
+
+    function [15:0] f_clamp;
+        input [15:0] v, lo, hi;
+        input        unl;
+        begin
+            if (unl)         f_clamp = (v == 16'd0) ? 16'd1 : v;
+            else if (v < lo) f_clamp = lo;
+            else if (v > hi) f_clamp = hi;
+            else             f_clamp = v;
+        end
+    endfunction
+
+    function f_in_window;
+        input [2:0]  p;
+        input [15:0] d;
+        begin
+            case (p)
+                `TWH_PH_CHARGE:     f_in_window = d >= `TWH_CHARGE_MIN;
+                `TWH_PH_SYNC:       f_in_window = d >= `TWH_SYNC_MIN && d <= `TWH_SYNC_MAX;
+                `TWH_PH_PREAMBLE:   f_in_window = d >= `TWH_PREAMBLE_MIN && d <= `TWH_PREAMBLE_MAX;
+                `TWH_PH_EXECUTE:    f_in_window = d >= `TWH_EXECUTE_MIN && d <= `TWH_EXECUTE_MAX;
+                `TWH_PH_LISTEN:     f_in_window = d >= `TWH_LISTEN_MIN;
+                `TWH_PH_TURNAROUND: f_in_window = d >= `TWH_TURNAROUND_MIN;
+                default:            f_in_window = 1'b1;
+            endcase
+        end
+    endfunction
+
+    // What the phase about to start must get: the configured value of two
+    // clocks ago (the pick and the clamp are one register each), clamped
+    // unless cfg_unlock was set at that same clock.
+    reg [15:0] f_want;
+    always @(*) begin
+        case (f_nph)
+            `TWH_PH_CHARGE:     f_want = f_clamp(f_cfg2[95:80], `TWH_CHARGE_MIN, `TWH_US_MAX, f_unl2);
+            `TWH_PH_SYNC:       f_want = f_clamp(f_cfg2[79:64], `TWH_SYNC_MIN, `TWH_SYNC_MAX, f_unl2);
+            `TWH_PH_PREAMBLE:   f_want = f_clamp(f_cfg2[63:48], `TWH_PREAMBLE_MIN, `TWH_PREAMBLE_MAX, f_unl2);
+            `TWH_PH_COMMAND:    f_want = f_long ? 16'd1408 : 16'd1056;
+            `TWH_PH_EXECUTE:    f_want = f_clamp(f_cfg2[47:32], `TWH_EXECUTE_MIN, `TWH_EXECUTE_MAX, f_unl2);
+            `TWH_PH_LISTEN:     f_want = f_clamp(f_cfg2[31:16], `TWH_LISTEN_MIN, `TWH_US_MAX, f_unl2);
+            `TWH_PH_TURNAROUND: f_want = f_clamp(f_cfg2[15:0], `TWH_TURNAROUND_MIN, `TWH_US_MAX, f_unl2);
+            default:            f_want = 16'd1;     // back to idle: ready at the next tick
+        endcase
+    end
+
+    always @(*) begin
+        if (f_ok) begin
+            // ---- sequencer: the state the counts below rely on
+            assert(cnt != 16'd0);
+            assert(f_ticks < f_dur);
+            assert(cnt + f_ticks == f_dur);
+            if (ph == `TWH_PH_IDLE)
+                assert(f_dur == 16'd1 || f_dur == `TWH_TURNAROUND_MIN);
+
+            // ---- every phase lasts exactly its loaded length ...
+            if (f_leave && ph != `TWH_PH_IDLE) assert(f_ticks + 16'd1 == f_dur);
+            // ... and that length lies in the phase's spec window, unless
+            // the lab unlock was on when it was picked
+            if (!f_dur_unl) assert(f_in_window(ph, f_dur));
+            // the command phase is its 33 or 44 bits of 32 ticks, and the
+            // bit on the line is the frame's bit for the time elapsed
+            if (ph == `TWH_PH_COMMAND) begin
+                assert(f_dur == (f_long ? 16'd1408 : 16'd1056));
+                assert(bitn <= 4'd10);
+                assert({2'd0, byten} * 6'd11 + {2'd0, bitn} == f_ticks[10:5]);
+                assert(tx_level == f_frame[f_ticks[10:5]]);
+            end
+
+            // ---- one command at a time, one result for each
+            assert(f_out <= 2'd1);
+            assert(f_out == {1'b0, pending || f_txn || m_res_valid});
+            assert(!(pending && (ph != `TWH_PH_IDLE)));
+            assert(!(m_res_valid && (pending || f_txn)));
+            // ready means: nothing accepted is waiting for its result
+            if (rdy) assert(ph == `TWH_PH_IDLE && f_out == 2'd0);
+            assert(busy == ((ph != `TWH_PH_IDLE) || pending));
+            // only a command that was not skipped ever leaves idle, and the
+            // engine sends exactly what was accepted
+            if (pending || f_txn) begin
+                assert(f_skip == 4'd0);
+                assert(cmd_r == f_code && pay_r == f_pay && tag_r == f_tag);
+            end
+            if (f_txn) assert(chk_r == f_chk);
+            // the result belongs to the last accepted command: a skipped one
+            // gets its skip status and no data; a sent one a link status
+            if (m_res_valid) begin
+                assert(m_res_code == f_code && m_res_tag == f_tag);
+                if (f_skip != 4'd0) begin
+                    assert(m_res_status == f_skip && m_res_data == 16'd0);
+                end else begin
+                    assert(m_res_status <= `TWH_ST_LINE_STUCK_HIGH);
+                    if (m_res_status != `TWH_ST_OK && m_res_status != `TWH_ST_BAD_CHECKSUM)
+                        assert(m_res_data == 16'd0);
+                end
+            end
+            // the registered checksum verdict is never stale when used
+            if (tick && last && ph == `TWH_PH_LISTEN)
+                assert(rx_chk_ok == (rx_chk == rx_bytes[7:0]));
+        end
+    end
+
+    always @(posedge clk) begin
+        if (f_ok && f_hist[1]) begin
+            // the length loaded for the next phase is its configured value,
+            // clamped into the window unless cfg_unlock was set two clocks
+            // before the load; so it is inside the window in that case
+            if (f_leave) begin
+                assert(dur_next == f_want);
+                if (!f_unl2) assert(f_in_window(f_nph, dur_next));
+            end
+        end
+        if (f_run) begin
+            // a result stays offered, unchanged, until it is taken
+            if ($past(m_res_valid && !m_res_ready))
+                assert(m_res_valid && $stable({m_res_code, m_res_data, m_res_status, m_res_tag}));
+            // a skipped command is answered at once, with its own status
+            if ($past(accept && s_cmd_skip != 4'd0))
+                assert(m_res_valid && m_res_status == $past(s_cmd_skip) &&
+                       m_res_code == $past(s_cmd_code) && m_res_tag == $past(s_cmd_tag) &&
+                       ph == `TWH_PH_IDLE && !pending);
+            // a result appears only for a skip or at the end of a listen
+            if (m_res_valid && !$past(m_res_valid))
+                assert($past(accept && s_cmd_skip != 4'd0) ||
+                       $past(tick && last && ph == `TWH_PH_LISTEN));
+            // progress: while a command is outstanding and not answered,
+            // every tick moves the sequencer strictly forward (a later phase,
+            // or fewer ticks left), so its result comes within at most
+            // 2000 + 6 x 65535 ticks
+            if ($past(tick && (pending || f_txn)))
+                assert({ph, ~cnt} > $past({ph, ~cnt}));
+        end
+    end
+
+`ifdef TWH_F_LINK_PINS
+    // ------------------------------------------------ the pin
+    // The pins follow the sequencer one clock later: f_lp is the phase the
+    // pins show now. f_ic and f_txl are the idle-charge input and the
+    // command bit as they were when the pins last took them.
+    localparam integer F_P = CLK_HZ / 1_000_000;     // clocks per carrier period
+    localparam integer F_H = (F_P + 1) / 2;          // clocks high in a period
+    localparam [19:0]  F_P20 = F_P;
+    localparam [7:0]   F_H8  = F_H;
+    generate
+        if (CLK_HZ % 1_000_000 != 0 || F_P > 8) begin : g_f_pins_clock
+            twh_error_TWH_F_LINK_PINS_needs_a_whole_MHz_clock_of_at_most_8_MHz u_err ();
+        end
+    endgenerate
+
+    reg [2:0] f_lp;
+    reg       f_txl, f_ic, f_tdd;
+    always @(posedge clk) begin
+        f_lp  <= ph;
+        f_txl <= tx_level;
+        f_tdd <= tick_d;
+        if (rst)         f_ic <= 1'b0;
+        else if (tick_d) f_ic <= cfg_idle_charge;
+    end
+    wire f_carrier = (f_lp == `TWH_PH_CHARGE) || (f_lp == `TWH_PH_PREAMBLE) ||
+                     (f_lp == `TWH_PH_EXECUTE) || (f_lp == `TWH_PH_COMMAND && f_txl) ||
+                     (f_lp == `TWH_PH_IDLE && f_ic);
+
+    // consecutive clocks the pin has been high before this one
+    reg [7:0] f_hi = 8'd0;
+    always @(posedge clk) f_hi <= line_o ? f_hi + 1'b1 : 8'd0;
+
+    always @(*) begin
+        if (f_run) begin
+            // released for the whole listen; driven low in sync and
+            // turnaround; driven in every other phase; idle as configured
+            case (f_lp)
+                `TWH_PH_LISTEN:     assert(!line_oe && !line_o);
+                `TWH_PH_SYNC,
+                `TWH_PH_TURNAROUND: assert(line_oe && !line_o);
+                `TWH_PH_IDLE:       assert(line_oe == f_ic);
+                default:            assert(line_oe);
+            endcase
+            // the carrier appears only where it belongs ...
+            if (line_o) assert(f_carrier);
+            // ... and there, every period starts with its high half
+            if (f_tdd) assert(line_o == f_carrier);
+            // each high half lasts exactly F_H clocks and starts with a
+            // period: no runt pulse, whatever the phases do
+            if (line_o) assert(f_hi < F_H8 && (f_hi != 8'd0 || f_tdd));
+            if (!line_o && f_hi != 8'd0) assert(f_hi == F_H8);
+        end
+    end
+
+    // ------------------------------------------------ clock level
+    // f_since: clocks since the last tick; f_clk: clocks since the phase
+    // began (saturating). After a reset the hold-off counts as a phase that
+    // began at a virtual tick F_P - 1 clocks before the first clock out of
+    // reset: the carrier ticks one period after it (two clocks after reset).
+    reg [7:0]  f_since;
+    reg [19:0] f_clk;
+    always @(posedge clk) begin
+        if (rst) begin
+            f_since <= F_P[7:0] - 8'd1;
+            f_clk   <= F_P20 - 20'd1;
+        end else begin
+            f_since <= tick ? 8'd1 : f_since + 1'b1;
+            if (f_leave)               f_clk <= 20'd1;
+            else if (f_clk != 20'hFFFFF) f_clk <= f_clk + 1'b1;
+        end
+    end
+    always @(*) begin
+        if (f_ok) begin
+            assert(f_since != 8'd0 && f_since <= F_P[7:0]);
+            if (tick) assert(f_since == F_P[7:0]);
+            // (waiting in idle for a command only adds clocks)
+            if (ph == `TWH_PH_IDLE && last)
+                assert(f_clk >= {4'd0, f_ticks} * F_P20 + {12'd0, f_since});
+            else
+                assert(f_clk == {4'd0, f_ticks} * F_P20 + {12'd0, f_since});
+            // a phase lasts f_dur periods of F_P clocks: f_dur microseconds
+            if (f_leave && ph != `TWH_PH_IDLE) assert(f_clk == {4'd0, f_dur} * F_P20);
+            // after a reset no charge before the hold-off's 2000 periods
+            // (the first of which began F_P - 1 clocks before the reset
+            // ended), so the line rests at least 1999 periods + 3 clocks
+            if (f_leave && ph == `TWH_PH_IDLE && f_dur == `TWH_TURNAROUND_MIN)
+                assert(f_clk >= {4'd0, f_dur} * F_P20);
+        end
+    end
+`endif
+`endif
 endmodule
 `default_nettype wire

