@@ -82,6 +82,31 @@ module tb_core #(
     wire [2:0] li3 = {line_2, line_1, line_0};
     assign li = li3[CHANNELS-1:0];
 
+    // Views for the waveform (tb/demo.gtkw, docs/waves.md) and for tests:
+    // each channel's phase and the FIFO levels, read out of the core by
+    // hierarchical name (assigned in g_wb / g_axil below), and a byte
+    // monitor per line that shows what travelled on it.
+    wire [3*32-1:0] ch_state;              // twh_channel `state`: {.., slot_full, busy, phase}
+    wire [15:0] cmd_level, res_level;
+    wire [2:0]  phase_0 = ch_state[2:0];
+    wire [2:0]  phase_1 = ch_state[34:32];
+    wire [2:0]  phase_2 = ch_state[66:64];
+    generate
+        if (CHANNELS < 3) begin : g_state_pad
+            assign ch_state[3*32-1:CHANNELS*32] = {(3-CHANNELS)*32{1'b0}};
+        end
+    endgenerate
+
+    wire [7:0]  mon_byte_0, mon_byte_1, mon_byte_2;
+    wire [15:0] mon_count_0, mon_count_1, mon_count_2;
+    wire [23:0] mon_word_0, mon_word_1, mon_word_2;
+    tb_bytemon u_mon0 (.line(line_0), .host_oe(line_oe_0),
+                       .data(mon_byte_0), .count(mon_count_0), .word(mon_word_0));
+    tb_bytemon u_mon1 (.line(line_1), .host_oe(line_oe_1),
+                       .data(mon_byte_1), .count(mon_count_1), .word(mon_word_1));
+    tb_bytemon u_mon2 (.line(line_2), .host_oe(line_oe_2),
+                       .data(mon_byte_2), .count(mon_count_2), .word(mon_word_2));
+
     // `make demo` asks for a small VCD of the pins with +vcd=<file>.
     reg [1023:0] vcd_file;
     initial begin
@@ -89,6 +114,14 @@ module tb_core #(
             $dumpfile(vcd_file);
             $dumpvars(0, line_o_0, line_oe_0, line_0, line_o_1, line_oe_1, line_1,
                       line_o_2, line_oe_2, line_2, irq);
+            // what tb/demo.gtkw shows besides the pins (never the clock:
+            // it would multiply the file size)
+            $dumpvars(0, rst, wb_cyc_i, wb_stb_i, wb_we_i, wb_adr_i, wb_dat_i,
+                      wb_dat_o, wb_ack_o, wb_err_o, cmd_level, res_level,
+                      phase_0, phase_1, phase_2,
+                      mon_byte_0, mon_count_0, mon_word_0,
+                      mon_byte_1, mon_count_1, mon_word_1,
+                      mon_byte_2, mon_count_2, mon_word_2);
         end
     end
 
@@ -101,6 +134,9 @@ module tb_core #(
                 .wb_cyc_i(wb_cyc_i), .wb_ack_o(wb_ack_o), .wb_err_o(wb_err_o),
                 .irq(irq), .line_o(lo), .line_oe(loe), .line_i(li)
             );
+            assign ch_state[CHANNELS*32-1:0] = dut.u_core.c_st;
+            assign cmd_level = dut.u_core.cmd_level16;
+            assign res_level = dut.u_core.res_level16;
             assign s_axil_awready = 1'b0; assign s_axil_wready = 1'b0;
             assign s_axil_bresp = 2'b00; assign s_axil_bvalid = 1'b0;
             assign s_axil_arready = 1'b0; assign s_axil_rdata = 32'd0;
@@ -120,8 +156,99 @@ module tb_core #(
                 .s_axil_rvalid(s_axil_rvalid), .s_axil_rready(s_axil_rready),
                 .irq(irq), .line_o(lo), .line_oe(loe), .line_i(li)
             );
+            assign ch_state[CHANNELS*32-1:0] = dut.u_core.c_st;
+            assign cmd_level = dut.u_core.cmd_level16;
+            assign res_level = dut.u_core.res_level16;
             assign wb_dat_o = 32'd0; assign wb_ack_o = 1'b0; assign wb_err_o = 1'b0;
         end
     endgenerate
+endmodule
+
+// Byte monitor of one simulated 2-wire line, for the waveform viewer and the
+// tests only (behavioural; the core's own receiver is twh_demod + twh_rx).
+// It demodulates the on-off-keyed line itself and decodes 8N1/8N2 characters
+// in both directions, so it shows what really travelled on the wire, not
+// what the core meant to send or believes it received.
+//
+//   data   last completed byte
+//   count  completed bytes so far: a change of count is the byte strobe
+//   word   the byte with its context, for tools/gtkwave/twh_bytes.py:
+//          [7:0] byte, [15:8] command byte of the frame (a response carries
+//          the command it answers), [17:16] index in the frame, [18] stop
+//          bit read 0, [20] valid, [21] from the peripheral, [22] last byte
+//          of the frame, [23] frame checksum good (with [22])
+//
+// A character of eight 0 bits with a 0 stop bit is a break (the sync gap,
+// the released line after an answer, the turnaround), not a byte.
+module tb_bytemon (
+    input  wire        line,
+    input  wire        host_oe,    // the host drives: the character is a command byte
+    output reg  [7:0]  data,
+    output reg  [15:0] count,
+    output reg  [23:0] word
+);
+    localparam real BIT_NS   = 32000.0;   // 31.25 kbps
+    localparam real HOLD_NS  = 1500.0;    // bridges the carrier's low halves, as twh_demod
+    localparam real SPIKE_NS = 100.0;     // shorter highs are not carrier
+    localparam real GAP_NS   = 1.0e6;     // a longer pause between bytes ends a frame
+
+    // The envelope: rises with a carrier high (inertial delay: spikes are
+    // swallowed), falls once the line has stayed low for HOLD_NS.
+    wire env;
+    assign #(SPIKE_NS, HOLD_NS) env = line;
+
+    // Start of the mark before a start bit. It counts only from when the
+    // current driver took the line: at the start of the listen window the
+    // host lets go of its execute carrier, and the low released line before
+    // the peripheral's own mark is no start bit.
+    realtime t_mark;
+    always @(posedge env) t_mark = $realtime;
+    always @(host_oe) t_mark = $realtime;
+
+    reg        resp, prev_resp, in_frame, stop_ok, last;
+    reg [2:0]  idx, len;
+    reg [7:0]  rxd, cmd, sum;
+    realtime   t_start, t_prev_end;
+    integer    i;
+    initial begin
+        data = 8'd0; count = 16'd0; word = 24'd0;
+        in_frame = 1'b0; prev_resp = 1'b0; idx = 3'd0; len = 3'd3;
+        cmd = 8'd0; sum = 8'd0; t_mark = 0.0; t_prev_end = 0.0;
+    end
+
+    always @(negedge env) begin
+        if (env === 1'b0 && $realtime - t_mark >= BIT_NS / 2.0) begin
+            t_start = $realtime - HOLD_NS;       // where the line fell
+            #(BIT_NS / 2.0 - HOLD_NS);           // middle of the start bit
+            if (env === 1'b0) begin
+                resp = (host_oe !== 1'b1);
+                for (i = 0; i < 8; i = i + 1) begin
+                    #(BIT_NS);
+                    rxd[i] = (env === 1'b1);
+                end
+                #(BIT_NS);
+                stop_ok = (env === 1'b1);
+                if (stop_ok || rxd != 8'h00) begin
+                    if (!in_frame || resp != prev_resp || idx == len ||
+                        t_start - t_prev_end > GAP_NS) begin
+                        idx = 3'd0;
+                        sum = 8'd0;
+                        if (!resp) cmd = rxd;
+                        len = (!resp && rxd[7]) ? 3'd4 : 3'd3;
+                    end
+                    sum  = sum + rxd;
+                    last = (idx == len - 3'd1);
+                    word = {last && sum == 8'hFF, last, resp, 1'b1,
+                            1'b0, !stop_ok, idx[1:0], cmd, rxd};
+                    data = rxd;
+                    count = count + 16'd1;
+                    idx = idx + 3'd1;
+                    in_frame = 1'b1;
+                    prev_resp = resp;
+                    t_prev_end = $realtime;
+                end
+            end
+        end
+    end
 endmodule
 `default_nettype wire
