@@ -49,3 +49,5 @@ if [ ! -f "$stamp" ] || ! cmp -s requirements.txt "$stamp"; then
     .venv/bin/python -m pip install -q --disable-pip-version-check -r requirements.txt
     cp requirements.txt "$stamp"
 fi
+# make compares the stamp with this script's own date too
+touch "$stamp"

@@ -226,14 +226,18 @@ int twh_read_word(twh_t *t, uint8_t ch, uint16_t addr, uint16_t *word);         
 int twh_erase_page(twh_t *t, uint8_t ch, uint16_t addr);                           /* 0x4A/4B */
 /* 0x80-0xFF, then reads the word back: TWH_ERR_VERIFY if it differs */
 int twh_write_word(twh_t *t, uint8_t ch, uint16_t addr, uint16_t word);
-/* words 0..n-1 into words[] (n <= 512) */
+/* words 0..n-1 into words[] (n <= 512). On failure words[] holds the words
+ * read before the failing one; the rest is untouched. */
 int twh_read_image(twh_t *t, uint8_t ch, uint16_t *words, uint16_t n);
 
 /* TIMING1.EXECUTE_US of a channel (read-modify-write, read back:
  * TWH_ERR_REFUSED when the core kept the old value) */
 int twh_set_execute_us(twh_t *t, uint8_t ch, uint16_t us);
 /* Timing negotiation: execute = 4 ms (safe), ask 0x41, then 6 ms for v18+,
- * else stay at 4 ms (v15 needs <= 4.5 ms). fw may be NULL. */
+ * else stay at 4 ms (v15 needs <= 4.5 ms). fw may be NULL. Once the version
+ * was read, *fw holds it, also when the final timing write is refused
+ * (TWH_ERR_REFUSED): the one documented exception to "outputs only on
+ * success", so a caller can tell which firmware refused. */
 int twh_negotiate(twh_t *t, uint8_t ch, twh_fw_t *fw);
 uint16_t twh_execute_us_for(const twh_fw_t *fw);
 

@@ -139,15 +139,17 @@ static int pop(twh_t *t, uint32_t info, twh_result_t *r)
 {
     uint32_t p = rd(t, REG(RES_POP));
 
+    /* checked before *r is touched: outputs are written only on success */
+    if ((p & ~BIT(RES_POP, DATA)) !=
+        (PUT(GET(info, RES_INFO, STATUS), RES_POP, STATUS) |
+         PUT(GET(info, RES_INFO, CHANNEL), RES_POP, CHANNEL) | BIT(RES_POP, VALID) |
+         PUT(GET(info, RES_INFO, TAG), RES_POP, TAG)))
+        return TWH_ERR_BUS;
     r->cmd = (uint8_t)GET(info, RES_INFO, CMD);
     r->status = (uint8_t)GET(info, RES_INFO, STATUS);
     r->channel = (uint8_t)GET(info, RES_INFO, CHANNEL);
     r->tag = (uint8_t)GET(info, RES_INFO, TAG);
     r->data = (uint16_t)GET(p, RES_POP, DATA);
-    if ((p & ~BIT(RES_POP, DATA)) !=
-        (PUT(r->status, RES_POP, STATUS) | PUT(r->channel, RES_POP, CHANNEL) |
-         BIT(RES_POP, VALID) | PUT(r->tag, RES_POP, TAG)))
-        return TWH_ERR_BUS;
     return TWH_OK;
 }
 
@@ -205,8 +207,10 @@ static int wait_own(twh_t *t, uint8_t ch, uint8_t cmd, uint8_t tag, uint16_t *da
             if (rc)
                 return rc;
             if (mine) {
-                *data = r.data;
-                return twh_status_err(r.status, cmd);
+                rc = twh_status_err(r.status, cmd);
+                if (!rc)
+                    *data = r.data;     /* outputs only on success */
+                return rc;
             }
             w = (uint32_t)t->stash_head + t->stash_count++;
             copy_res(&t->stash[w < TWH_STASH_SIZE ? w : w - TWH_STASH_SIZE], &r);

@@ -862,7 +862,28 @@ static void test_res_pop_mismatch(void **state)
     assert_int_equal(twh_submit(&E->t, 0, TWH_CMD_CONFIG, 0xAA), 1);
     fake_step(&E->f);
     E->f.corrupt_next_pop = 1;
+    memset(&r, 0xA5, sizeof r);
     assert_int_equal(twh_result(&E->t, &r), TWH_ERR_BUS);
+    /* found by fuzzing (sw/fuzz/regress/result/result_bus_writes_r.bin):
+     * *r was filled before the check */
+    assert_int_equal(r.cmd, 0xA5);
+    assert_int_equal(r.status, 0xA5);
+    assert_int_equal(r.tag, 0xA5);
+    assert_int_equal(r.data, 0xA5A5);
+}
+
+/* found by fuzzing (xfer_data_on_error.bin in sw/fuzz/regress): twh_xfer
+ * handed a bad answer's data to the caller along with the error */
+static void test_xfer_no_data_on_error(void **state)
+{
+    uint16_t d = 0x5555;
+
+    fake_script(&E->f, 0, -1, TWH_ST_BAD_CHECKSUM, 0x1234);
+    assert_int_equal(twh_xfer(&E->t, 0, TWH_CMD_CONFIG, 0xAA, &d), TWH_ERR_CHECKSUM);
+    assert_int_equal(d, 0x5555);
+    fake_script(&E->f, 0, -1, TWH_ST_OK, 0x1234);
+    assert_int_equal(twh_xfer(&E->t, 0, TWH_CMD_CONFIG, 0xAA, &d), TWH_OK);
+    assert_int_equal(d, 0x1234);
 }
 
 static void test_cancel_all(void **state)
@@ -1274,6 +1295,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_stash_ring_wraps, setup, teardown),
         cmocka_unit_test_setup_teardown(test_same_tag_other_channel_or_cmd, setup, teardown),
         cmocka_unit_test_setup_teardown(test_res_pop_mismatch, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_xfer_no_data_on_error, setup, teardown),
         cmocka_unit_test_setup_teardown(test_cancel_all, setup, teardown),
         cmocka_unit_test_setup_teardown(test_helpers, setup, teardown),
         cmocka_unit_test_setup_teardown(test_write_verify, setup, teardown),
