@@ -85,6 +85,113 @@ module twh_axil #(
         end
     end
 
+`ifdef FORMAL
+    // Proven against formal/stub/twh_core.v, which keeps only the register
+    // port's contract (answer on the next clock, error and read data free),
+    // so these are the wrapper's own properties. Assumptions bind the
+    // master's side only (AMBA AXI A3.1.2, A3.2.1): no VALID during reset,
+    // and a VALID stays up with its payload unchanged until its READY.
+    reg f_ok = 1'b0;       // a reset has been seen: the state is defined
+    always @(posedge clk) if (rst) f_ok <= 1'b1;
+    reg f_past_valid = 1'b0;
+    always @(posedge clk) f_past_valid <= 1'b1;
+
+    wire f_aw = s_axil_awvalid && s_axil_awready;
+    wire f_w  = s_axil_wvalid  && s_axil_wready;
+    wire f_ar = s_axil_arvalid && s_axil_arready;
+    wire f_b  = s_axil_bvalid  && s_axil_bready;
+    wire f_r  = s_axil_rvalid  && s_axil_rready;
+
+    always @(*) begin
+        if (rst) assume(!s_axil_awvalid && !s_axil_wvalid && !s_axil_arvalid);
+    end
+    always @(posedge clk) begin
+        if (f_past_valid && !$past(rst)) begin
+            if ($past(s_axil_awvalid && !s_axil_awready))
+                assume(s_axil_awvalid && $stable(s_axil_awaddr) && $stable(s_axil_awprot));
+            if ($past(s_axil_wvalid && !s_axil_wready))
+                assume(s_axil_wvalid && $stable(s_axil_wdata) && $stable(s_axil_wstrb));
+            if ($past(s_axil_arvalid && !s_axil_arready))
+                assume(s_axil_arvalid && $stable(s_axil_araddr) && $stable(s_axil_arprot));
+        end
+    end
+
+    // Accesses accepted and not yet answered by a B or R handshake, and the
+    // core's answer to the access in flight.
+    reg        f_wr_open, f_rd_open;
+    reg        f_err;
+    reg [31:0] f_rdata;
+    always @(posedge clk) begin
+        if (rst) begin
+            f_wr_open <= 1'b0;
+            f_rd_open <= 1'b0;
+        end else begin
+            if (f_aw) f_wr_open <= 1'b1;
+            else if (f_b) f_wr_open <= 1'b0;
+            if (f_ar) f_rd_open <= 1'b1;
+            else if (f_r) f_rd_open <= 1'b0;
+        end
+        if (ack) begin
+            f_err   <= err;
+            f_rdata <= rdata;
+        end
+    end
+
+    always @(*) begin
+        if (f_ok) begin
+            // address and data are taken together, reads and writes never
+            // both: one access in flight
+            assert(f_aw == f_w);
+            assert(!(f_aw && f_ar));
+            assert(!(f_wr_open && f_rd_open));
+            assert(!f_wr_open || !(f_aw || f_ar));
+            assert(!f_rd_open || !(f_aw || f_ar));
+            // a response only for an access that was accepted, on its own
+            // channel, and never a second one (the handshake closes it)
+            assert(!s_axil_bvalid || f_wr_open);
+            assert(!s_axil_rvalid || f_rd_open);
+            // the response carries the core's answer: OKAY or SLVERR only
+            if (s_axil_bvalid) assert(s_axil_bresp == {f_err, 1'b0});
+            if (s_axil_rvalid) assert(s_axil_rresp == {f_err, 1'b0} && s_axil_rdata == f_rdata);
+            // an open access with no response up yet is in the core
+            assert(busy == ((f_wr_open && !s_axil_bvalid) || (f_rd_open && !s_axil_rvalid)));
+            assert(!busy || was_write == f_wr_open);
+            assert(ack == busy);
+        end
+    end
+
+    always @(posedge clk) begin
+        if (f_ok && f_past_valid && !$past(rst)) begin
+            // VALID is held until READY, the payload unchanged meanwhile
+            if ($past(s_axil_bvalid && !s_axil_bready))
+                assert(s_axil_bvalid && $stable(s_axil_bresp));
+            if ($past(s_axil_rvalid && !s_axil_rready))
+                assert(s_axil_rvalid && $stable(s_axil_rresp) && $stable(s_axil_rdata));
+            // the response comes up two clocks after the request: one to
+            // the core's answer, one to the response register
+            if ($past(f_past_valid && !rst && f_aw, 2)) assert(s_axil_bvalid);
+            if ($past(f_past_valid && !rst && f_ar, 2)) assert(s_axil_rvalid);
+        end
+        if (f_ok && f_past_valid && $past(rst))
+            assert(!s_axil_bvalid && !s_axil_rvalid);
+    end
+
+    // every clock the covers look back on lies after a reset
+    reg [2:0] f_run = 3'd0;    // clocks since reset, saturating
+    always @(posedge clk) begin
+        if (rst) f_run <= 3'd0;
+        else if (f_ok && f_run != 3'd7) f_run <= f_run + 1'b1;
+    end
+    always @(posedge clk) begin
+        if (f_run == 3'd7) begin
+            cover(f_b && s_axil_bresp == 2'b10);
+            cover(f_r && $past(f_b, 3));     // back to back: one access per 3 clocks
+            // a read and a write arrive together: the write goes first
+            cover(f_ar && $past(s_axil_arvalid && s_axil_awvalid && s_axil_wvalid, 3));
+        end
+    end
+`endif
+
     // protection attributes carry no meaning for this core
     // verilator lint_off UNUSEDSIGNAL
     wire unused_prot = |{s_axil_awprot, s_axil_arprot};

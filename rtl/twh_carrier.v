@@ -83,5 +83,97 @@ module twh_carrier #(
             end
         end
     end
+
+`ifdef FORMAL
+    // No assumption on rst: checked from the first reset on (f_ok).
+    reg f_ok = 1'b0;
+    always @(posedge clk) if (rst) f_ok <= 1'b1;
+
+    localparam [8:0] F_P  = P;
+    localparam [8:0] F_H  = H;
+    localparam [8:0] F_PM = P + ((FRAC != 0) ? 1 : 0);     // longest period
+    // the spec window (0.90-1.10 MHz, duty 45-60 %) for a period of P and
+    // of P+1 clocks, high for H
+    localparam F_P_IN  = (P * 1_100 >= CLK_HZ / 1_000) && (P * 900 <= CLK_HZ / 1_000)
+                         && (100 * H >= 45 * P) && (100 * H <= 60 * P);
+    localparam F_P1_IN = ((P + 1) * 1_100 >= CLK_HZ / 1_000) && ((P + 1) * 900 <= CLK_HZ / 1_000)
+                         && (100 * H >= 45 * (P + 1)) && (100 * H <= 60 * (P + 1));
+
+    // clocks since the last tick, a tick seen since reset, a fall seen in
+    // the current period
+    reg  [8:0] f_since;
+    reg        f_ticked, f_fell;
+    wire [8:0] f_j = tick ? 9'd0 : f_since;
+    // Time error of the last tick against an exact 1 MHz grid anchored at
+    // the first tick after reset, in units of 1/(CLK_HZ * 1 MHz) seconds (a
+    // clock is 1_000_000 of them): each period of n clocks adds
+    // n * 1 MHz - CLK_HZ.
+    localparam signed [23:0] F_US     = 24'sd1_000_000;
+    localparam signed [23:0] F_FRAC_S = FRAC;
+    reg  signed [23:0] f_drift_r;
+    wire signed [23:0] f_drift = (tick && f_ticked)
+        ? f_drift_r - F_FRAC_S + ((f_since == F_P) ? 24'sd0 : F_US) : f_drift_r;
+    always @(posedge clk) begin
+        if (rst) begin
+            f_since  <= 9'd0;
+            f_ticked <= 1'b0;
+            f_fell   <= 1'b0;
+            f_drift_r <= 24'sd0;
+        end else begin
+            f_since  <= f_j + 1'b1;
+            f_ticked <= f_ticked || tick;
+            f_fell   <= fall || (f_fell && !tick);
+            f_drift_r <= f_drift;
+        end
+    end
+
+    // the accumulator as it was when this period's stretch was decided
+    wire        f_stretched = stretch || (f_j == F_P);
+    wire [20:0] f_acc_prev  = {1'b0, acc} - FRAC21
+                              + (f_stretched ? 21'd1_000_000 : 21'd0);
+
+    always @(*) begin
+        if (f_ok) begin
+            assert(!(tick && fall));
+            // first tick two clocks after reset, then one per period
+            if (!f_ticked) assert(f_since == (tick ? 9'd1 : 9'd0) && !fall);
+            if (f_ticked) begin
+                assert(f_j < F_PM);
+                // the high half ends exactly H clocks into the period, once
+                if (fall) assert(f_j == F_H && !f_fell);
+                if (tick) begin
+                    assert(f_fell);
+                    // every period is P clocks, or P+1 when stretched, and
+                    // inside the spec window
+                    assert((f_since == F_P && F_P_IN) ||
+                           (FRAC != 0 && f_since == F_P + 9'd1 && F_P1_IN));
+                end
+                // every tick lies less than one clock ahead of the exact
+                // 1 MHz grid, never behind it: the average is exact
+                assert(f_drift <= 24'sd0 && f_drift > -F_US);
+                // the state follows from the time in the period; the drift
+                // is the Bresenham error left in the accumulator
+                assert(cnt == ((f_j < F_P) ? F_P - 9'd1 - f_j : 9'd0));
+                assert(f_fell == (tick || f_j > F_H));
+                assert(!(stretch && f_j == F_P));
+                assert(acc < 20'd1_000_000);
+                if (FRAC == 0) assert(acc == 20'd0 && !stretch);
+                // a period is stretched exactly when the accumulator wrapped
+                else assert(f_stretched == (acc < FRAC21[19:0]));
+                assert(f_drift == -$signed({3'd0, f_acc_prev}));
+            end else begin
+                assert(f_drift == 24'sd0);
+                if (tick) assert(cnt == LOAD && !stretch && acc == FRAC21[19:0]);
+                else      assert(cnt == {CW{1'b0}} && !stretch && acc == 20'd0);
+            end
+        end
+    end
+
+    always @(posedge clk) begin
+        if (f_ok && f_ticked) begin
+            cover(tick && f_since == F_PM);    // a stretched period, if any
+        end
+    end
+`endif
 endmodule
 `default_nettype wire

@@ -57,5 +57,138 @@ module twh_demod #(
             env <= hi_ok || (hold != {HW{1'b0}});
         end
     end
+
+`ifdef FORMAL
+    // No assumption on rst: checked from the first reset on (f_ok).
+    reg f_ok = 1'b0;
+    always @(posedge clk) if (rst) f_ok <= 1'b1;
+
+    // Reference, in the terms of docs/protocol.md: a sample is accepted
+    // when it and the F_GL-1 before it (since reset) are high, F_GL =
+    // max(1, floor(CLK_HZ x GLITCH_NS)); the envelope is high for the
+    // F_HOLD+1 clocks after an accepted sample, F_HOLD = HOLD_NS in clocks
+    // rounded up. (Written anew here, so a slip in the RTL's constants shows.)
+    // (x * ns / 1e9 in 32 bits: whole kHz first, the rest of the clock
+    // rounded the same way; floor and ceiling nest exactly)
+    localparam integer F_GL_RAW = (CLK_HZ / 1_000 * GLITCH_NS
+                                   + CLK_HZ % 1_000 * GLITCH_NS / 1_000) / 1_000_000;
+    localparam integer F_GL     = (F_GL_RAW < 1) ? 1 : F_GL_RAW;
+    localparam integer F_HOLD_I = (CLK_HZ / 1_000 * HOLD_NS
+                                   + (CLK_HZ % 1_000 * HOLD_NS + 999) / 1_000
+                                   + 999_999) / 1_000_000;
+    localparam integer F_AW = $clog2(F_HOLD_I + 3);
+    localparam [F_AW-1:0] F_HOLD = F_HOLD_I;
+    reg  [F_GL-1:0] f_hist;     // samples before this clock, newest in [0]
+    reg  [F_AW-1:0] f_age;      // clocks since the last accepted sample
+    wire [F_GL:0]   f_win = {f_hist, line_s};
+    wire            f_acc = &f_win[F_GL-1:0];
+    always @(posedge clk) begin
+        if (rst) begin
+            f_hist <= {F_GL{1'b0}};
+            f_age  <= F_HOLD + 1'b1;
+        end else begin
+            f_hist <= f_win[F_GL-1:0];
+            if (f_acc)              f_age <= {F_AW{1'b0}};
+            else if (f_age <= F_HOLD) f_age <= f_age + 1'b1;
+        end
+    end
+
+    always @(*) begin
+        if (f_ok) begin
+            assert(hi_ok == f_acc);
+            assert(env == (f_age <= F_HOLD));
+            assert(hold == ((f_age < F_HOLD) ? F_HOLD - f_age : {F_AW{1'b0}}));
+            assert(f_age <= F_HOLD + 1'b1);
+        end
+    end
+
+    // the filter's count is the run of high samples it has seen
+    localparam integer F_GW = $clog2(F_GL + 1);
+    integer f_i;
+    reg [F_GW-1:0] f_run;
+    always @(*) begin
+        f_run = {F_GW{1'b0}};
+        for (f_i = 0; f_i < F_GL; f_i = f_i + 1)
+            if (f_run == f_i[F_GW-1:0] && f_hist[f_i]) f_run = f_run + 1'b1;
+    end
+    generate
+        if (GL > 1) begin : g_f_filter
+            always @(*) begin
+                if (f_ok) assert(g_filter.hc == f_run);
+            end
+        end
+    endgenerate
+
+`ifdef TWH_F_DEMOD_CARRIER
+    // A peripheral carrier anywhere in the window of NOTES.md (0.90-1.10
+    // MHz, duty 30-70 %), as the synchronised line samples it (one clock
+    // of margin each way for the synchroniser): a high lasts at least
+    // F_HMIN clocks, a low at most F_LMAX once the first high came. The
+    // first high after reset may be cut short by the reset.
+    localparam integer F_HMIN_R = CLK_HZ / 1_000 * 3 / 11_000 - 1;    // 0.3 / 1.1 MHz
+    localparam integer F_HMIN   = (F_HMIN_R < 1) ? 1 : F_HMIN_R;
+    localparam integer F_LMAX   = (CLK_HZ / 1_000 * 7 + 8_999) / 9_000 + 1;  // 0.7 / 0.9 MHz
+    localparam integer F_HSAT   = (F_HMIN > F_GL) ? F_HMIN : F_GL;
+    localparam integer F_RW     = $clog2(F_LMAX + F_HSAT + 2);
+    localparam [F_RW-1:0] F_HMIN_V = F_HMIN;
+    localparam [F_RW-1:0] F_LMAX_V = F_LMAX;
+    localparam [F_RW-1:0] F_HSAT_V = F_HSAT;
+    localparam [F_RW-1:0] F_GL_V   = F_GL;
+
+    reg [F_RW-1:0] f_hi, f_lo;  // length of the run of highs / lows just before
+    reg            f_on;        // a high came since reset
+    reg            f_full;      // the current high run began after reset
+    reg            f_env_seen;  // the envelope came up since reset
+    always @(posedge clk) begin
+        if (rst) begin
+            f_hi <= {F_RW{1'b0}};
+            f_lo <= {F_RW{1'b0}};
+            f_on <= 1'b0;
+            f_full <= 1'b0;
+            f_env_seen <= 1'b0;
+        end else begin
+            f_on <= f_on || line_s;
+            f_env_seen <= f_env_seen || env;
+            if (line_s) begin
+                f_lo <= {F_RW{1'b0}};
+                if (f_hi != F_HSAT_V) f_hi <= f_hi + 1'b1;
+                if (f_lo != {F_RW{1'b0}}) f_full <= 1'b1;
+            end else begin
+                f_hi <= {F_RW{1'b0}};
+                f_full <= 1'b0;
+                if (f_lo != F_LMAX_V + 1'b1) f_lo <= f_lo + 1'b1;
+            end
+        end
+    end
+
+    always @(*) begin
+        if (f_ok && !line_s) begin
+            if (f_on) assume(f_lo < F_LMAX_V);
+            if (f_full && f_hi != {F_RW{1'b0}}) assume(f_hi >= F_HMIN_V);
+        end
+    end
+
+    always @(*) begin
+        if (f_ok) begin
+            // once up, the envelope stays up for as long as the carrier runs
+            if (f_env_seen) assert(env);
+            // the time since the last accepted sample is bounded by the
+            // run lengths: the state the above rests on
+            if (f_env_seen && f_lo != {F_RW{1'b0}}) assert(f_age == f_lo);
+            if (f_env_seen && f_hi >= F_GL_V) assert(f_age == {F_AW{1'b0}});
+            if (f_env_seen && f_hi != {F_RW{1'b0}} && f_hi < F_GL_V)
+                assert(f_full && f_age <= f_hi + F_LMAX_V);
+            if (f_on) assert(f_lo <= F_LMAX_V);
+            assert(f_hi <= F_HSAT_V && f_lo <= F_LMAX_V + 1'b1);
+            // the filter window agrees with the run of highs
+            assert(f_run == ((f_hi < F_GL_V) ? f_hi[F_GW-1:0] : F_GL_V[F_GW-1:0]));
+            assert(!(f_hi != {F_RW{1'b0}} && f_lo != {F_RW{1'b0}}));
+            assert(!f_full || f_hi != {F_RW{1'b0}});
+            assert(f_on || f_hi == {F_RW{1'b0}});
+            if (f_env_seen) assert(f_on && (f_hi != {F_RW{1'b0}} || f_lo != {F_RW{1'b0}}));
+        end
+    end
+`endif
+`endif
 endmodule
 `default_nettype wire

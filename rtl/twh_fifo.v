@@ -87,6 +87,7 @@ module twh_fifo #(
                                     - {{(LW-1){1'b0}}, f_pop};
     end
 
+    wire [AW:0] f_mem_count = wr_ptr - rd_ptr;   // words behind the output
     always @(*) begin
         if (f_ok) begin
             assert(f_count <= DEPTH_L);
@@ -98,8 +99,10 @@ module twh_fifo #(
             // the output word is loaded one clock after it reaches an
             // empty FIFO: `empty` may trail `level` by that one clock only
             assert(!empty || level <= 1);
+            // the registered level and full agree with the pointers
+            assert(level == f_mem_count + {{AW{1'b0}}, out_valid});
             assert(out_valid || level == {{(LW-1){1'b0}}, !mem_empty});
-            assert(mem_count <= DEPTH);
+            assert(f_mem_count <= DEPTH);
         end
     end
 

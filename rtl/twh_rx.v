@@ -97,5 +97,228 @@ module twh_rx (
             end
         end
     end
+
+`ifdef FORMAL
+    // No assumption on rst: checked from the first reset on (f_ok).
+    reg f_ok = 1'b0;
+    always @(posedge clk) if (rst) f_ok <= 1'b1;
+    reg f_past_valid = 1'b0;
+    reg f_past_ok = 1'b0;  // the last clock was defined, out of reset, en on
+    always @(posedge clk) begin
+        f_past_valid <= 1'b1;
+        f_past_ok       <= f_ok && !rst && en;
+    end
+
+    // Consecutive mark ticks since en (saturating at 16), and whether 16
+    // of them were seen before some tick: what a first start needs.
+    reg [4:0] f_mk;
+    reg       f_mk16;
+    always @(posedge clk) begin
+        if (rst || !en) begin
+            f_mk   <= 5'd0;
+            f_mk16 <= 1'b0;
+        end else if (tick) begin
+            if (!env)               f_mk <= 5'd0;
+            else if (f_mk != 5'd16) f_mk <= f_mk + 1'b1;
+            if (f_mk == 5'd16) f_mk16 <= 1'b1;
+        end
+    end
+
+    always @(posedge clk) begin
+        if (f_ok && f_past_valid && $past(rst || !en)) begin
+            // clearing en (or reset) clears everything
+            assert(nbytes == 2'd0 && bytes == 24'd0 && !started && !frame_err);
+        end
+        if (f_past_ok) begin
+            // nothing moves between ticks, nothing once the answer is done
+            if (!$past(tick) || $past(done))
+                assert($stable(nbytes) && $stable(bytes) && $stable(started)
+                       && $stable(frame_err) && $stable(ended));
+            // bytes only add up, one at a time
+            assert(nbytes == $past(nbytes) || nbytes == $past(nbytes) + 1'b1);
+        end
+    end
+
+    always @(*) begin
+        if (f_ok) begin
+            // a first start only after half a bit of mark
+            if (started) assert(f_mk16);
+            if (active && !more) assert(f_mk16);
+            // every result rests on a start bit that passed its re-check
+            if (nbytes != 2'd0 || frame_err || ended || more) assert(started);
+            assert(!(frame_err && ended));
+            assert(!(more && nbytes == 2'd0));
+            // bytes holds exactly the completed characters
+            case (nbytes)
+                2'd0: assert(bytes == 24'd0);
+                2'd1: assert(bytes[23:8] == 16'd0);
+                2'd2: assert(bytes[23:16] == 8'd0);
+                default: ;
+            endcase
+            // the counters stay in range
+            assert(bitn <= 4'd9);
+            if (active) assert(!done);
+            assert(mark <= 5'd16);
+            if (!done) assert(mark == f_mk);
+            if (active && bitn == 4'd9) assert(sub <= 5'd19);
+            if (active && bitn == 4'd0) assert(sub != 5'd0);
+            if (active && (bitn != 4'd0 || sub > 5'd19)) assert(started);
+            assert(votes <= 2'd2);
+            if (active && sub <= 5'd11) assert(votes == 2'd0);
+            if (active && sub <= 5'd15) assert(votes <= 2'd1);
+        end
+    end
+
+`ifdef TWH_F_RX_UART
+    // An ideal sender, on the envelope at exactly 32 ticks a bit (rate
+    // error is left to simulation): silence, possibly marks cut short
+    // before half a bit (a line waking up), at least 16 ticks of mark, then
+    // characters of any value with any idle time (one stop bit or more)
+    // between them; it may stop keying instead of starting a character (a
+    // break: all zeros). Once the receiver is done the envelope is free.
+    // Ticks and en are free; the sender starts over whenever en is low.
+    // Assumptions touch only the env input, so they cannot be vacuous.
+    localparam [2:0] M_SILENT = 3'd0, M_MARK = 3'd1, M_CHAR = 3'd2,
+                     M_GAP = 3'd3, M_FREE = 3'd4;
+    reg [2:0]  m_st;
+    reg [3:0]  m_b;         // bit of the character: 0 start, 1-8 data, 9 stop
+    reg [4:0]  m_c;         // ticks into that bit
+    reg        m_brk;       // this character is the break
+    reg [7:0]  m_byte;
+    reg [4:0]  m_mk;        // consecutive mark ticks, saturating at 16
+    reg [1:0]  m_n;         // characters whose stop bit has been sampled
+    reg        m_started;   // a start bit's re-check point has passed
+    reg [23:0] m_exp;       // those characters, as `bytes` must show them
+    (* anyseq *) reg       f_go, f_brk;
+    (* anyseq *) reg [7:0] f_data;
+
+    reg m_env;
+    always @(*) begin
+        case (m_st)
+            M_MARK, M_GAP: m_env = 1'b1;
+            M_CHAR:        m_env = (m_b == 4'd0) ? 1'b0 :
+                                   (m_b == 4'd9) ? !m_brk : m_byte[m_b - 4'd1];
+            default:       m_env = 1'b0;
+        endcase
+    end
+    always @(*) if (f_ok && m_st != M_FREE) assume(env == m_env);
+
+    wire [4:0] m_mk_next = !m_env ? 5'd0 : (m_mk == 5'd16) ? 5'd16 : m_mk + 1'b1;
+    always @(posedge clk) begin
+        if (rst || !en) begin
+            m_st      <= M_SILENT;
+            m_b       <= 4'd0;
+            m_c       <= 5'd0;
+            m_brk     <= 1'b0;
+            m_byte    <= 8'd0;
+            m_mk      <= 5'd0;
+            m_n       <= 2'd0;
+            m_started <= 1'b0;
+            m_exp     <= 24'd0;
+        end else if (tick) begin
+            m_mk <= m_mk_next;
+            case (m_st)
+                M_SILENT: if (f_go) m_st <= M_MARK;
+                M_MARK: begin
+                    if (f_go) begin
+                        if (m_mk_next == 5'd16) begin
+                            m_st   <= M_CHAR;
+                            m_b    <= 4'd0;
+                            m_c    <= 5'd0;
+                            m_brk  <= f_brk;
+                            m_byte <= f_brk ? 8'd0 : f_data;
+                        end else begin
+                            m_st <= M_SILENT;
+                        end
+                    end
+                end
+                M_CHAR: begin
+                    m_c <= m_c + 1'b1;
+                    if (m_c == 5'd31) m_b <= m_b + 1'b1;
+                    if (m_b == 4'd0 && m_c == 5'd19) m_started <= 1'b1;
+                    if (m_b == 4'd9 && m_c == 5'd19) begin
+                        if (m_brk) begin
+                            m_st <= M_FREE;
+                        end else begin
+                            m_n   <= m_n + 1'b1;
+                            m_exp <= {m_exp[15:0], m_byte};
+                            if (m_n == 2'd2) m_st <= M_FREE;
+                        end
+                    end
+                    if (m_b == 4'd9 && m_c == 5'd31) begin
+                        m_b <= 4'd0;
+                        if (f_go) begin
+                            m_brk  <= f_brk;
+                            m_byte <= f_brk ? 8'd0 : f_data;
+                        end else begin
+                            m_st <= M_GAP;
+                        end
+                    end
+                end
+                M_GAP: begin
+                    if (f_go) begin
+                        m_st   <= M_CHAR;
+                        m_b    <= 4'd0;
+                        m_c    <= 5'd0;
+                        m_brk  <= f_brk;
+                        m_byte <= f_brk ? 8'd0 : f_data;
+                    end
+                end
+                default: ;
+            endcase
+        end
+    end
+
+    // data bits of the current character already shifted into sh
+    reg [3:0] m_k;
+    always @(*) begin
+        if (m_b == 4'd0)      m_k = 4'd0;
+        else if (m_b == 4'd9) m_k = 4'd8;
+        else                  m_k = m_b - 4'd1 + {3'd0, m_c > 5'd19};
+    end
+
+    always @(*) begin
+        if (f_ok) begin
+            // every character arrives, unchanged and in order, on the tick
+            // its stop bit is sampled; no framing error, no false start
+            assert(nbytes == m_n);
+            assert(bytes == m_exp);
+            assert(!frame_err);
+            assert(started == m_started);
+            // the break ends reception as a short answer, and only it does
+            assert(ended == (m_st == M_FREE && m_brk));
+            if (m_st == M_FREE) assert(done);
+            else                assert(!done);
+
+            // the receiver's state follows the sender's position
+            assert(m_st <= M_FREE && m_b <= 4'd9);
+            assert(more == (m_n != 2'd0));
+            if (!done) assert(mark == m_mk);
+            if (m_st == M_SILENT || m_st == M_MARK)
+                assert(!active && m_n == 2'd0 && !m_started && m_b == 4'd0 && m_c == 5'd0);
+            if (m_st == M_SILENT) assert(m_mk != 5'd16);
+            if (m_st != M_FREE) assert(m_n != 2'd3);
+            if (m_st == M_GAP) assert(!active && m_n != 2'd0 && m_b == 4'd0 && m_c == 5'd0);
+            if (m_st == M_CHAR) begin
+                if (m_b == 4'd0 && m_c == 5'd0) begin
+                    assert(!active);
+                    if (m_n == 2'd0) assert(m_mk == 5'd16);
+                end else if (m_b != 4'd9 || m_c <= 5'd19) begin
+                    assert(active && bitn == m_b && sub == m_c);
+                    assert(votes == (m_env ? {1'b0, m_c > 5'd11} + {1'b0, m_c > 5'd15} : 2'd0));
+                end else begin
+                    assert(!active && !m_brk && m_n != 2'd0);
+                end
+                assert((sh >> (4'd8 - m_k)) == (m_byte & ~(8'hFF << m_k)));
+                if (m_brk) assert(m_byte == 8'd0);
+                if (m_b != 4'd0 || m_c > 5'd19) assert(m_started);
+            end
+        end
+    end
+
+    // the sender model gets going: a start bit accepted after the mark
+    always @(*) if (f_ok) cover(started && !done);
+`endif
+`endif
 endmodule
 `default_nettype wire

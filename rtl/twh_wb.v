@@ -38,5 +38,69 @@ module twh_wb #(
 
     assign wb_ack_o = ack && !err;
     assign wb_err_o = ack && err;
+
+`ifdef FORMAL
+    // Proven against formal/stub/twh_core.v, which keeps only the register
+    // port's contract (answer on the next clock), so these are the
+    // wrapper's own properties. The master is bound by one rule only: a
+    // classic-cycle strobe stays up until it is answered (Wishbone B4
+    // handshaking protocol; a reset releases it). With TWH_F_WB_ABORT it
+    // may instead drop CYC at any time (abort).
+    reg f_ok = 1'b0;       // a reset has been seen: the state is defined
+    always @(posedge clk) if (rst) f_ok <= 1'b1;
+
+    wire f_answer = wb_ack_o || wb_err_o;
+    wire f_strobe = wb_cyc_i && wb_stb_i && !f_answer;   // asks, unanswered
+    reg  f_past_valid = 1'b0;
+    reg  f_asked = 1'b0;   // a strobe went unanswered on the last clock
+    always @(posedge clk) begin
+        f_past_valid <= 1'b1;
+        f_asked      <= !rst && f_strobe;
+    end
+
+    always @(posedge clk) begin
+        if (f_past_valid && $past(f_strobe && !rst)) begin
+`ifdef TWH_F_WB_ABORT
+            if (wb_cyc_i) assume(wb_stb_i);
+`else
+            assume(wb_cyc_i && wb_stb_i);
+`endif
+        end
+    end
+
+    always @(*) begin
+        if (f_ok) begin
+            assert(!(wb_ack_o && wb_err_o));
+            // one answer per strobe, on the next clock; none unasked, none
+            // twice, none left over from a strobe cut short by a reset
+            assert(f_answer == f_asked);
+        end
+    end
+    always @(posedge clk) begin
+        if (f_ok && f_answer) begin
+`ifdef TWH_F_WB_ABORT
+            // only in the very clock the master gives up the cycle
+            assert((wb_cyc_i && wb_stb_i) || (!wb_cyc_i && $past(wb_cyc_i)));
+`else
+            assert(wb_cyc_i && wb_stb_i);
+`endif
+        end
+    end
+
+    // every clock the covers look back on lies after a reset
+    reg [1:0] f_run = 2'd0;    // clocks since reset, saturating
+    always @(posedge clk) begin
+        if (rst) f_run <= 2'd0;
+        else if (f_ok && f_run != 2'd3) f_run <= f_run + 1'b1;
+    end
+    always @(posedge clk) begin
+        if (f_run == 2'd3) begin
+            // a block cycle: a strobe held on after its answer is the next
+            // access (answered every second clock, not every clock)
+            cover(f_answer && $past(wb_cyc_i && wb_stb_i) && $past(f_answer, 2));
+            cover(wb_err_o && $past(wb_ack_o, 2));
+        end
+    end
+`endif
 endmodule
 `default_nettype wire

@@ -1,0 +1,31 @@
+# Formal verification with SymbiYosys (docs/formal.md): the YoWASP build of
+# Yosys 0.70 and its sby/smtbmc (requirements.txt), z3 from Debian.
+#
+#   make formal                    every job below, one at a time; PASS/FAIL
+#                                  and time per job, fails if any fails
+#   make formal FORMAL_JOBS=twh_fifo:prove_d4    chosen jobs only
+#
+# A job is <formal/*.sby without .sby>:<task>. Properties live in the RTL
+# under `ifdef FORMAL`; the .sby files pick module, parameters and mode.
+# Phase 2 (twh_link, twh_channel, twh_core) adds its .sby files and jobs here.
+
+FORMAL_JOBS ?= \
+    twh_sync2:prove \
+    twh_fifo:prove_d4 twh_fifo:prove_d2 twh_fifo:cover_d4 \
+    twh_wb:prove twh_wb:prove_abort twh_wb:cover \
+    twh_axil:prove twh_axil:cover \
+    twh_carrier:c4 twh_carrier:c5 twh_carrier:c10_5 twh_carrier:c13_56 \
+    twh_carrier:c27 twh_carrier:c48 twh_carrier:c200 twh_carrier:cover_c13_56 \
+    twh_demod:c4 twh_demod:c48 twh_demod:c100 \
+    twh_demod:carrier_c4 twh_demod:carrier_c48 twh_demod:carrier_c100 \
+    twh_rx:prove twh_rx:uart
+
+.PHONY: formal
+formal: deps
+	@bash formal/run.sh $(FORMAL_JOBS)
+
+# Each mutant of formal/mutants.tsv (a deliberate RTL bug or broken property)
+# must make its job fail; not part of `formal` (two to three minutes).
+.PHONY: formal-mutants
+formal-mutants: deps
+	@bash formal/mutate.sh
