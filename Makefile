@@ -22,10 +22,16 @@ include $(sort $(wildcard mk/*.mk))
 all: test
 
 help:
-	@echo "make demo   - scripted session against a modelled O2 cell, writes build/demo/demo.vcd"
-	@echo "make test   - the whole regression: lint + every test (installs what is missing)"
-	@echo "make lint   - Verilator -Wall and a Yosys synthesis check of rtl/"
-	@echo "make waves  - open the demo waveform in GTKWave"
+	@echo "make demo    - scripted session against modelled cells, writes build/demo/demo.vcd"
+	@echo "make test    - the whole regression: lint + every test (installs what is missing)"
+	@echo "make lint    - Verilator -Wall and a Yosys synthesis check of rtl/"
+	@echo "make waves   - open the demo waveform in GTKWave (docs/waves.md)"
+	@echo "make formal  - SymbiYosys proofs (docs/formal.md)"
+	@echo "make fuzz    - libFuzzer on the driver's decoders, FUZZ_SECONDS each (docs/fuzzing.md)"
+	@echo "make soak    - SOAK_TRANSACTIONS through the C driver on the Verilated core (docs/soak.md)"
+	@echo "make synth   - bitstreams for the three boards (docs/boards.md)"
+	@echo "make bench   - resources/Fmax (docs/resources.md), driver size, bus cost"
+	@echo "make fusesoc-synth - FuseSoC synth_ice40 + synth_ecp5 through the YoWASP shims"
 
 deps: .venv/.requirements.stamp
 .venv/.requirements.stamp: requirements.txt scripts/bootstrap.sh
@@ -82,9 +88,11 @@ demo: deps
 
 waves: build/demo/demo.vcd
 	bash scripts/bootstrap.sh --waves
+	cp tb/demo.gtkw build/demo/demo.gtkw
 	gtkwave build/demo/demo.vcd build/demo/demo.gtkw
 
-build/demo/demo.vcd:
+# a waveform older than the bench or the session lacks their signals
+build/demo/demo.vcd: tb/tb_core.v tb/demo_session.py
 	$(MAKE) demo
 
 clean:

@@ -1,9 +1,12 @@
-# Synthesis of the bare bus core with the pinned YoWASP tools (scripts/synth.py).
+# Synthesis with the pinned YoWASP tools.
+#   make synth        bitstreams for the three boards (mk/boards.mk, docs/boards.md)
 #   make synth-smoke  one part, one configuration: part of make test, so code
 #                     that Yosys or nextpnr cannot take fails CI
 #   make bench-synth  the resource/Fmax table (docs/resources.md), part of
 #                     make bench; never asserted, only printed and written
-.PHONY: synth-smoke bench-synth
+.PHONY: synth synth-smoke bench-synth
+
+synth: boards
 
 TEST_EXTRA  += synth-smoke
 BENCH_EXTRA += bench-synth
