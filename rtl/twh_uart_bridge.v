@@ -1,0 +1,214 @@
+// UART-to-Wishbone bridge: a PC masters the core's registers over a serial
+// port (8N1, BAUD). The protocol is in docs/boards.md; in short, with every
+// request ending in a check byte C = ~(sum of its other bytes) (the 2-wire
+// link's own checksum rule):
+//
+//   read    'R' A C               -> S D0 D1 D2 D3   (D little endian)
+//   write   'W' A D0 D1 D2 D3 C   -> S
+//   status  'S'                   -> S
+//
+// A is the word address (byte address / 4). S = {4'hA, DROPPED, IRQ,
+// FRAME_ERR, BUS_ERR}: BUS_ERR - the access was made and answered with an
+// error (or A is beyond the core's 512-byte window); FRAME_ERR - the check
+// byte was wrong and nothing was done (a read still answers four zero
+// bytes, so every answer has the length its opcode promises); IRQ - the
+// core's irq line; DROPPED - bytes were discarded since the last answer.
+//
+// Garbage: outside a request any byte other than the three opcodes is
+// dropped. A request that stops half way is dropped after TIMEOUT_BITS bit
+// times of silence, and at once on a character with a bad stop bit (so a
+// break resets the parser). Bytes that arrive while an answer is being
+// sent are dropped. A PC therefore always resynchronises by staying silent
+// for TIMEOUT_BITS bit times and flushing its input.
+`default_nettype none
+module twh_uart_bridge #(
+    parameter integer CLK_HZ       = 12_000_000,
+    parameter integer BAUD         = 115_200,
+    parameter integer TIMEOUT_BITS = 1024
+) (
+    input  wire        clk,
+    input  wire        rst,
+    input  wire        uart_rx,     // pin, asynchronous
+    output wire        uart_tx,     // pin
+    // Wishbone B4 classic master, 32-bit, byte addresses
+    output wire [8:0]  wb_adr_o,
+    output wire [31:0] wb_dat_o,
+    input  wire [31:0] wb_dat_i,
+    output wire        wb_we_o,
+    output wire [3:0]  wb_sel_o,
+    output reg         wb_stb_o,
+    output wire        wb_cyc_o,
+    input  wire        wb_ack_i,
+    input  wire        wb_err_i,
+    input  wire        irq,
+    output reg         activity,    // one clock: a request was carried out
+    output reg         fault        // one clock: something was dropped or refused
+);
+    localparam integer DIV  = (CLK_HZ + BAUD / 2) / BAUD;
+    localparam integer TMO  = TIMEOUT_BITS * DIV;
+    localparam integer TW   = $clog2(TMO + 1);
+    localparam [TW-1:0] C_TMO = TMO[TW-1:0];
+
+    localparam [7:0] OP_READ = 8'h52, OP_WRITE = 8'h57, OP_STATUS = 8'h53;
+
+    wire [7:0] rx_data;
+    wire       rx_valid, rx_ferr;
+    twh_uart_rx #(.CLK_HZ(CLK_HZ), .BAUD(BAUD)) u_rx (
+        .clk(clk), .rst(rst), .rx(uart_rx),
+        .data(rx_data), .valid(rx_valid), .frame_err(rx_ferr)
+    );
+
+    reg  [7:0] tx_data;
+    reg        tx_valid;
+    wire       tx_ready;
+    twh_uart_tx #(.CLK_HZ(CLK_HZ), .BAUD(BAUD)) u_tx (
+        .clk(clk), .rst(rst), .data(tx_data), .valid(tx_valid),
+        .ready(tx_ready), .tx(uart_tx)
+    );
+
+    localparam [1:0] S_RECV = 2'd0, S_BUS = 2'd1, S_ANSWER = 2'd2, S_SEND = 2'd3;
+    reg [1:0]    state;
+    reg          in_req;     // a read or write request is being received
+    reg          is_write;
+    reg [2:0]    idx;        // bytes of the request received after the opcode
+    reg [7:0]    sum;
+    reg [7:0]    adr;
+    reg [31:0]   dat;        // write data in, read data out
+    reg [2:0]    left;       // answer bytes still to send after tx_data
+    reg          bus_err, frame_err, dropped;
+    reg [TW-1:0] idle;       // clocks since the request's last byte
+
+    wire last_byte = is_write ? (idx == 3'd5) : (idx == 3'd1);
+    wire [7:0] status = {4'hA, dropped, irq, frame_err, bus_err};
+    // one shift for both directions: write data comes in at the top, read
+    // data leaves at the bottom
+    wire       shift_in  = (state == S_RECV) && rx_valid && in_req && idx != 3'd0 && !last_byte;
+    wire       shift_out = (state == S_SEND) && tx_valid && tx_ready && left != 3'd0;
+
+    // the request registers hold still while the strobe is up
+    assign wb_adr_o = {adr[6:0], 2'b00};
+    assign wb_dat_o = dat;
+    assign wb_we_o  = is_write;
+    assign wb_cyc_o = wb_stb_o;
+    assign wb_sel_o = 4'hF;
+
+    always @(posedge clk) begin
+        activity <= 1'b0;
+        fault    <= 1'b0;
+        if (rst) begin
+            state     <= S_RECV;
+            in_req    <= 1'b0;
+            is_write  <= 1'b0;
+            idx       <= 3'd0;
+            sum       <= 8'd0;
+            adr       <= 8'd0;
+            dat       <= 32'd0;
+            left      <= 3'd0;
+            bus_err   <= 1'b0;
+            frame_err <= 1'b0;
+            dropped   <= 1'b0;
+            idle      <= {TW{1'b0}};
+            tx_data   <= 8'd0;
+            tx_valid  <= 1'b0;
+            wb_stb_o  <= 1'b0;
+        end else begin
+            if (shift_in || shift_out)
+                dat <= {rx_data, dat[31:8]};
+            case (state)
+            S_RECV: begin
+                if (rx_ferr) begin
+                    // a broken character: whatever request it belonged to
+                    // cannot be trusted
+                    in_req  <= 1'b0;
+                    dropped <= 1'b1;
+                    fault   <= 1'b1;
+                end else if (rx_valid && !in_req) begin
+                    sum  <= rx_data;
+                    idx  <= 3'd0;
+                    idle <= {TW{1'b0}};
+                    if (rx_data == OP_READ || rx_data == OP_WRITE) begin
+                        in_req   <= 1'b1;
+                        is_write <= (rx_data == OP_WRITE);
+                    end else if (rx_data == OP_STATUS) begin
+                        is_write  <= 1'b1;           // answer: the status byte only
+                        frame_err <= 1'b0;
+                        bus_err   <= 1'b0;
+                        activity  <= 1'b1;
+                        state     <= S_ANSWER;
+                    end else begin
+                        dropped <= 1'b1;
+                        fault   <= 1'b1;
+                    end
+                end else if (rx_valid) begin
+                    idx  <= idx + 1'b1;
+                    sum  <= sum + rx_data;
+                    idle <= {TW{1'b0}};
+                    if (idx == 3'd0)
+                        adr <= rx_data;
+                    if (last_byte) begin
+                        in_req    <= 1'b0;
+                        bus_err   <= 1'b0;
+                        frame_err <= 1'b0;
+                        if (sum + rx_data != 8'hFF) begin
+                            frame_err <= 1'b1;
+                            fault     <= 1'b1;
+                            state     <= S_ANSWER;
+                        end else if (adr[7]) begin
+                            // beyond the core's 9-bit byte address: no access
+                            bus_err  <= 1'b1;
+                            fault    <= 1'b1;
+                            state    <= S_ANSWER;
+                        end else begin
+                            wb_stb_o <= 1'b1;
+                            activity <= 1'b1;
+                            state    <= S_BUS;
+                        end
+                    end
+                end else if (in_req) begin
+                    if (idle == C_TMO) begin
+                        in_req  <= 1'b0;
+                        dropped <= 1'b1;
+                        fault   <= 1'b1;
+                    end else begin
+                        idle <= idle + 1'b1;
+                    end
+                end
+            end
+            S_BUS: begin
+                if (wb_ack_i || wb_err_i) begin
+                    wb_stb_o <= 1'b0;
+                    bus_err  <= wb_err_i;
+                    fault    <= wb_err_i;
+                    dat      <= wb_dat_i;
+                    state    <= S_ANSWER;
+                end
+            end
+            S_ANSWER: begin
+                tx_data  <= status;
+                tx_valid <= 1'b1;
+                left     <= is_write ? 3'd0 : 3'd4;
+                dropped  <= 1'b0;          // reported by this status byte
+                state    <= S_SEND;
+            end
+            default: begin                 // S_SEND
+                if (tx_valid && tx_ready) begin
+                    if (left == 3'd0) begin
+                        tx_valid <= 1'b0;
+                        state    <= S_RECV;
+                    end else begin
+                        // a refused access answers zeros, not stale data
+                        tx_data <= (bus_err || frame_err) ? 8'd0 : dat[7:0];
+                        left    <= left - 1'b1;
+                    end
+                end
+            end
+            endcase
+            // the parser is not listening while it answers
+            if (state != S_RECV && (rx_valid || rx_ferr)) begin
+                dropped <= 1'b1;
+                fault   <= 1'b1;
+            end
+        end
+    end
+endmodule
+`default_nettype wire
