@@ -12,7 +12,7 @@
 # comment in twowire-host.core).
 
 ECO_SHIMS := $(CURDIR)/scripts/shims
-FUSESOC_SYNTH_TARGETS := synth_ice40 synth_ecp5
+FUSESOC_SYNTH_TARGETS := synth_ice40 synth_ecp5 icebreaker hx8k ulx3s
 
 .PHONY: fusesoc-synth
 fusesoc-synth: deps
