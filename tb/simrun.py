@@ -46,16 +46,28 @@ def run(toplevel, test_module, name, *, parameters=None, testcase=None,
     env = {"PYTHONPATH": os.environ.get("PYTHONPATH", str(TB_DIR))}
     env.update(extra_env or {})
     seed = os.environ.get("COCOTB_RANDOM_SEED")
-    results = runner.test(
-        hdl_toplevel=toplevel,
-        test_module=test_module,
-        testcase=testcase,
-        build_dir=build_dir,
-        test_dir=build_dir,
-        plusargs=list(plusargs),
-        extra_env=env,
-        seed=seed,
-    )
+    # The runner lets the parent environment override extra_env, so a
+    # variable exported in the shell would silently replace what the test
+    # asked for: put the test's values into the environment for the run.
+    saved = {k: os.environ.get(k) for k in env}
+    os.environ.update(env)
+    try:
+        results = runner.test(
+            hdl_toplevel=toplevel,
+            test_module=test_module,
+            testcase=testcase,
+            build_dir=build_dir,
+            test_dir=build_dir,
+            plusargs=list(plusargs),
+            extra_env=env,
+            seed=seed,
+        )
+    finally:
+        for k, v in saved.items():
+            if v is None:
+                os.environ.pop(k, None)
+            else:
+                os.environ[k] = v
     # Under pytest the runner raises on failures itself; outside (make demo)
     # it only returns the results file, so check it here in both cases.
     n_tests, n_failed = get_results(results)
