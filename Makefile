@@ -55,7 +55,13 @@ lint: deps
 	@echo "lint clean"
 
 pytest: deps
-	$(PY) -m pytest -n $(JOBS) tb
+	$(PY) -m pytest -n $(JOBS) -m "not slow" tb
+
+# the long end-to-end runs (constrained random with coverage, the PC tool
+# against the simulated board): CI runs them after make test
+.PHONY: test-slow
+test-slow: deps
+	$(PY) -m pytest -n $(JOBS) -m slow tb
 
 # the C driver: cmocka unit tests (plain and ASan/UBSan), Cortex-M0 size
 swtest: deps

@@ -348,6 +348,7 @@ def test_bridge_protocol():
     _run("bridge_protocol", 115200)
 
 
+@pytest.mark.slow
 def test_cli_quick(twh_cli):
     _run("cli_quick", 1_000_000)
 

@@ -28,6 +28,7 @@ import os
 import time
 
 import cocotb
+import pytest
 from cocotb.simtime import get_sim_time
 
 import randomtb as rt
@@ -111,6 +112,7 @@ def _run(bus, n, seed, cov_out, cov_in=None, require=True):
                testcase="random_regression", tb_sources=["tb_core.v"], extra_env=env)
 
 
+@pytest.mark.slow
 def test_random():
     # TWH_SEED=random is resolved here, once, so both halves use (and print) it
     seed = rt.seed_from_env()
