@@ -18,7 +18,10 @@ FORMAL_JOBS ?= \
     twh_carrier:c27 twh_carrier:c48 twh_carrier:c200 twh_carrier:cover_c13_56 \
     twh_demod:c4 twh_demod:c48 twh_demod:c100 \
     twh_demod:carrier_c4 twh_demod:carrier_c48 twh_demod:carrier_c100 \
-    twh_rx:prove twh_rx:uart
+    twh_rx:prove twh_rx:uart \
+    twh_link:c4 twh_link:c48 twh_link:c13_56 \
+    twh_channel:prove twh_channel:cover \
+    twh_core:port twh_core:ch1 twh_core:ch2 twh_core:cover_ch2
 
 .PHONY: formal
 formal: deps

@@ -150,7 +150,10 @@ module twh_channel #(
             issue_q      <= 1'b0;
             use_poll_q   <= 1'b0;
         end else begin
-            issue_q    <= issue && !taken;
+            // a poll-control write withdraws the registered choice for a
+            // clock: the engine must never see a command byte that was not
+            // checked (switching polling off accepts any byte)
+            issue_q    <= issue && !taken && !wr_poll_ctrl;
             use_poll_q <= use_poll;
             if (slot_load) begin
                 slot_full    <= 1'b1;
@@ -242,5 +245,184 @@ module twh_channel #(
     assign poll_ctrl   = {poll_en, poll_interval, poll_payload, poll_cmd};
     assign poll_result = {poll_count, poll_status, poll_data};
     assign state       = {27'd0, slot_full, busy, phase};
+
+`ifdef FORMAL
+    // ================================================================ formal
+    // formal/twh_channel.sby proves the channel with TWH_F_CHANNEL defined
+    // and a stand-in engine (formal/twh_channel_link.v) that keeps only
+    // twh_link's proven interface contract. The one rule the core must keep
+    // (a slot is loaded only while free) is then assumed; read without
+    // TWH_F_CHANNEL the same rule is checked instead. Everything else: any
+    // input, rst included, from the first reset on (f_ok).
+    reg f_ok = 1'b0;
+    always @(posedge clk) if (rst) f_ok <= 1'b1;
+    reg f_run = 1'b0;      // the previous clock ran and was no reset
+    always @(posedge clk) f_run <= f_ok && !rst;
+
+    always @(*) begin
+        if (f_ok && !rst && slot_load) begin
+`ifdef TWH_F_CHANNEL
+            assume(!slot_full);
+`else
+            assert(!slot_full);
+`endif
+        end
+    end
+
+    // ------------------------------------------------ register rules
+    function f_ro;        // the read-only commands a poller may send
+        input [7:0] c;
+        f_ro = (c >= 8'h40 && c <= 8'h44) || (c >= 8'h46 && c <= 8'h49);
+    endfunction
+    // the spec windows (section 4 table), written out here rather than
+    // taken from twh_defs.vh
+    function f_win0;      // {sync, charge}
+        input [31:0] v;
+        f_win0 = v[15:0] >= 16'd7000 && v[31:16] >= 16'd900 && v[31:16] <= 16'd1100;
+    endfunction
+    function f_win1;      // {execute, preamble}
+        input [31:0] v;
+        f_win1 = v[15:0] >= 16'd1800 && v[15:0] <= 16'd2200 &&
+                 v[31:16] >= 16'd3500 && v[31:16] <= 16'd10000;
+    endfunction
+    function f_win2;      // {turnaround, listen}
+        input [31:0] v;
+        f_win2 = v[15:0] >= 16'd2000 && v[31:16] >= 16'd2000;
+    endfunction
+
+    // Whether a write of wdata must be taken (and so whether one this clock
+    // must be refused). Wires, not function calls under $past: Yosys 0.70
+    // evaluates a function call inside $past on the current arguments.
+    wire f_take0 = lab || f_win0(wdata);
+    wire f_take1 = lab || f_win1(wdata);
+    wire f_take2 = lab || f_win2(wdata);
+    wire f_takep = !wdata[31] || f_ro(wdata[7:0]);
+    wire f_refuse = (wr_timing0 && !f_take0) || (wr_timing1 && !f_take1) ||
+                    (wr_timing2 && !f_take2) || (wr_poll_ctrl && !f_takep);
+    // whether the lab unlock was on when each timing register last took a
+    // value (the reset defaults are in the window)
+    reg f_lab0, f_lab1, f_lab2;
+    always @(posedge clk) begin
+        if (rst) begin
+            f_lab0 <= 1'b0;
+            f_lab1 <= 1'b0;
+            f_lab2 <= 1'b0;
+        end else begin
+            if (wr_timing0 && f_take0) f_lab0 <= lab;
+            if (wr_timing1 && f_take1) f_lab1 <= lab;
+            if (wr_timing2 && f_take2) f_lab2 <= lab;
+        end
+    end
+
+    wire [7:0] f_code = use_poll_q ? poll_cmd : slot_cmd;     // what the engine is offered
+    wire [3:0] f_skip = use_poll_q ? 4'd0 : slot_skip;
+
+    always @(*) begin
+        if (f_ok) begin
+            // timing registers hold in-window values, unless written while
+            // the lab unlock was on
+            if (!f_lab0) assert(f_win0(timing0));
+            if (!f_lab1) assert(f_win1(timing1));
+            if (!f_lab2) assert(f_win2(timing2));
+            // the poller is only ever armed with, and only ever hands the
+            // engine, a read-only command
+            if (poll_en) assert(f_ro(poll_cmd));
+            if (taken && use_poll_q) assert(f_ro(f_code));
+            // a slot command is offered only while it is in the slot
+            if (issue_q && !use_poll_q) assert(slot_full);
+            // poll results stay in the channel, all others leave it
+            assert(res_valid == (e_valid && !e_tag[5]));
+        end
+    end
+
+    always @(posedge clk) begin
+        if (f_run) begin
+            // a timing write is taken whole when in the window (or lab),
+            // otherwise refused whole, with value_refused
+            if ($past(wr_timing0))
+                assert(timing0 == ($past(f_take0) ? $past(wdata) : $past(timing0)));
+            if ($past(wr_timing1))
+                assert(timing1 == ($past(f_take1) ? $past(wdata) : $past(timing1)));
+            if ($past(wr_timing2))
+                assert(timing2 == ($past(f_take2) ? $past(wdata) : $past(timing2)));
+            if ($past(wr_poll_ctrl && f_takep))
+                assert(poll_ctrl == $past(wdata));
+            assert(value_refused == $past(f_refuse));
+            // a result to the core stays offered, unchanged, until taken
+            if ($past(res_valid && !res_ready))
+                assert(res_valid && $stable({res_cmd, res_data, res_status, res_tag}));
+        end
+    end
+
+`ifdef TWH_F_CHANNEL
+    // ------------------------------------------------ commands through the channel
+    // Needs the stand-in engine: its busy is exactly "a sent command waits
+    // for its result" and its m_res_tag the tag of the last accepted command.
+    //
+    // f_n: commands loaded into the slot minus results handed to the core.
+    // f_s*: the command in the slot as loaded, its skip as it must be
+    // (loaded with one, or cancelled while waiting); f_l*: the slot command
+    // the engine has.
+    reg [1:0] f_n;
+    reg [4:0] f_stag, f_ltag;
+    reg [7:0] f_scmd, f_lcmd;
+    reg [3:0] f_sskip, f_lskip;
+    wire f_take = taken && !use_poll_q;
+    always @(posedge clk) begin
+        if (rst) begin
+            f_n <= 2'd0;
+        end else begin
+            f_n <= f_n + {1'b0, slot_load} - {1'b0, res_valid && res_ready};
+            if (slot_load) begin
+                f_stag  <= slot_tag_i;
+                f_scmd  <= slot_cmd_i;
+                f_sskip <= slot_skip_i;
+            end else if (cancel && slot_full && !f_take) begin
+                f_sskip <= `TWH_ST_CANCELLED;
+            end
+            if (f_take) begin
+                f_ltag  <= f_stag;
+                f_lcmd  <= f_scmd;
+                f_lskip <= f_sskip;
+            end
+        end
+    end
+    wire f_eng_slot = (busy || e_valid) && !e_tag[5];    // the engine holds a slot command
+
+    always @(*) begin
+        if (f_ok) begin
+            // the stand-in engine's own state: a sent command or a result
+            assert(!(busy && e_valid));
+            // every command loaded is in the slot, in the engine, or has
+            // left as exactly one result: none lost, none doubled
+            assert(f_n == {1'b0, slot_full} + {1'b0, f_eng_slot});
+            if (slot_full)
+                assert(slot_cmd == f_scmd && slot_tag == f_stag && slot_skip == f_sskip);
+            // a blocked or cancelled command never reaches the line: the
+            // engine gets it with its skip status
+            if (f_take) assert(f_skip == f_sskip);
+            if (f_eng_slot) begin
+                assert(e_tag == {1'b0, f_ltag} && e_code == f_lcmd);
+                if (busy) assert(f_lskip == 4'd0);      // only unskipped ones are sent
+                if (e_valid) begin
+                    if (f_lskip != 4'd0) assert(e_status == f_lskip);
+                    else                 assert(e_status <= `TWH_ST_LINE_STUCK_HIGH);
+                end
+            end
+            // polls are told apart by the tag's top bit alone
+            if (busy || e_valid) assert(e_tag[5] ? e_tag[4:0] == 5'd0 && f_ro(e_code) : 1'b1);
+        end
+    end
+
+    always @(posedge clk) begin
+        if (f_ok && !rst) begin
+            cover(res_valid && res_ready && f_lskip == `TWH_ST_CANCELLED && f_sskip == 4'd0);
+            cover(taken && use_poll_q && slot_full);
+            cover(poll_sample && slot_full && f_n == 2'd1);
+            cover(f_n == 2'd2 && res_valid);
+        end
+    end
+`endif
+`endif
 endmodule
 `default_nettype wire

@@ -146,8 +146,11 @@ module twh_core #(
         else     dispatch <= !dispatch && !cmd_empty && (enable || flushing) && h_slot_free;
         disp_ch <= h_ch;
     end
-    wire [3:0] h_skip = flushing  ? `TWH_ST_CANCELLED :
-                        h_blocked ? `TWH_ST_BLOCKED : 4'd0;
+    // a flush written in the clock a command is dispatched cancels it too:
+    // it was queued when the flush came (the slot's cancel misses it)
+    wire       flush_wr = wr && !is_ch && g_reg == R_CTRL && reg_wdata[1];
+    wire [3:0] h_skip = (flushing || flush_wr) ? `TWH_ST_CANCELLED :
+                        h_blocked              ? `TWH_ST_BLOCKED : 4'd0;
 
     twh_fifo #(.W(33), .DEPTH(FIFO_DEPTH)) u_cmd_fifo (
         .clk(clk), .rst(rst),
@@ -209,7 +212,7 @@ module twh_core #(
                 .slot_load(dispatch && disp_ch == n),
                 .slot_cmd_i(h_cmd), .slot_payload_i(h_payload), .slot_tag_i(h_tag),
                 .slot_skip_i(h_skip),
-                .cancel(wr && !is_ch && g_reg == R_CTRL && reg_wdata[1]),
+                .cancel(flush_wr),
                 .slot_full(slot_full[n]),
                 .res_valid(c_res_valid[n]), .res_ready(scan == n && !res_full),
                 .res_cmd(c_res_cmd[n*8 +: 8]), .res_data(c_res_data[n*16 +: 16]),
@@ -364,5 +367,214 @@ module twh_core #(
             reg_rdata <= (rd && mapped) ? (is_ch ? c_rdata : g_rdata) : 32'd0;
         end
     end
+
+`ifdef FORMAL
+    // ================================================================ formal
+    // The register-port contract holds on its own: reg_ack is a register of
+    // the request. The command path is proven by formal/twh_core.sby with
+    // TWH_F_CORE: its channels are a stand-in (formal/twh_core_channel.v)
+    // that keeps twh_channel's proven contract, and the f_cf_* probes below
+    // are tied by that job (connect -set) to the command FIFO's pointers,
+    // output flag and RAM words, which twh_fifo exposes nowhere else.
+    reg f_h = 1'b0;           // one clock of history
+    always @(posedge clk) f_h <= 1'b1;
+    always @(*) begin
+        // an error comes only with its answer
+        if (f_h && reg_err) assert(reg_ack);
+    end
+    always @(posedge clk) begin
+        // every request is answered on the next clock, and nothing else is;
+        // a reset cancels the answer
+        if (f_h) assert(reg_ack == $past(reg_req && !rst));
+    end
+
+`ifdef TWH_F_CORE
+    reg f_ok = 1'b0;
+    always @(posedge clk) if (rst) f_ok <= 1'b1;
+
+    // ------------------------------------------------ command FIFO probes
+    localparam integer F_AW = $clog2(FIFO_DEPTH);
+    localparam [LW-1:0] F_DEPTH = FIFO_DEPTH[LW-1:0];
+    (* keep *) wire [F_AW:0] f_cf_wr, f_cf_rd;     // u_cmd_fifo.wr_ptr, rd_ptr
+    (* keep *) wire          f_cf_ov;              // u_cmd_fifo.out_valid
+    wire [33*FIFO_DEPTH-1:0] f_cf_mem;
+    genvar f_i;
+    generate
+        for (f_i = 0; f_i < FIFO_DEPTH; f_i = f_i + 1) begin : g_f_cf_mem
+            (* keep *) wire [32:0] w;               // u_cmd_fifo.mem[f_i]
+            assign f_cf_mem[f_i*33 +: 33] = w;
+        end
+    endgenerate
+    wire [F_AW:0] f_cf_n = f_cf_wr - f_cf_rd;      // words in the RAM, behind the output
+
+    // per-channel state widened to 8 channels
+    wire [CHANNELS+7:0] f_busy_w = {8'd0, c_busy};
+    wire [7:0] f_busy8 = f_busy_w[7:0];
+    integer f_j, f_k;
+    reg [4:0] f_inch;          // commands the channels hold, in slots and engines
+    always @(*) begin
+        f_inch = 5'd0;
+        for (f_j = 0; f_j < CHANNELS; f_j = f_j + 1)
+            f_inch = f_inch + {4'd0, slot_full[f_j]} + {4'd0, c_busy[f_j]};
+    end
+
+    // f_pend: commands accepted by CMD_PUSH minus results the result FIFO
+    // took
+    reg [5:0] f_pend;
+    always @(posedge clk) begin
+        if (rst) f_pend <= 6'd0;
+        else     f_pend <= f_pend + {5'd0, push_ok} - {5'd0, res_push && !res_full};
+    end
+
+    // ------------------------------------------------ factory rule
+    // The factory rule as NOTES.md words it, on the pushed word: erase
+    // (0x4A/0x4B, address = code bit 0 : payload low byte) or write
+    // (0x80-0xFF, address = payload bits 15:14 : code bits 6:0) of a word
+    // below 0x20, unless FACTORY_KEY was armed since the last push.
+    wire [8:0] f_erase_at = {reg_wdata[0], reg_wdata[15:8]};
+    wire [8:0] f_write_at = {reg_wdata[23:22], reg_wdata[6:0]};
+    wire       f_factory  = ((reg_wdata[7:0] == 8'h4A || reg_wdata[7:0] == 8'h4B) && f_erase_at < 9'h020) ||
+                            (reg_wdata[7] && f_write_at < 9'h020);
+    reg        f_armed;
+    always @(posedge clk) begin
+        if (rst)                                         f_armed <= 1'b0;
+        else if (push_ok)                                f_armed <= 1'b0;
+        else if (wr && !is_ch && g_reg == R_FACTORY_KEY) f_armed <= (reg_wdata == `TWH_FACTORY_KEY);
+    end
+
+    // ------------------------------------------------ one command, followed
+    // An arbitrary accepted push is followed to its result: f_st 1 while in
+    // the command FIFO (f_pos words ahead of it), 2 in its channel's slot,
+    // 3 in that channel's engine. f_can: it must come out CANCELLED (a flush
+    // was written while it was queued or waiting in the slot, not yet
+    // started).
+    (* anyseq *) reg f_pick;
+    reg [1:0]    f_st;
+    reg [LW-1:0] f_pos;
+    reg [32:0]   f_word;       // as pushed: {blocked, tag, channel, payload, code}
+    reg          f_can, f_pf;
+    reg          f_blk;        // it must come out BLOCKED (unless CANCELLED)
+    wire [2:0]   f_ch    = f_word[26:24];
+    wire         f_flush = wr && !is_ch && g_reg == R_CTRL && reg_wdata[1];
+    // a flush last clock hit it waiting in the slot (it is still there)
+    wire         f_can_now = f_can || (f_st == 2'd2 && f_pf && slot_full8[f_ch]);
+    wire [3:0]   f_skip  = f_can_now ? `TWH_ST_CANCELLED :
+                           f_blk ? `TWH_ST_BLOCKED : 4'd0;
+    wire [31:0]  f_slot  = c_t0[f_ch*32 +: 32];    // stand-in: {skip, tag, code} in the slot
+    wire [31:0]  f_eng   = c_t1[f_ch*32 +: 32];    // ... and in the engine
+    wire         f_mine  = res_push && scan == f_ch && f_st == 2'd3;  // its result goes in
+    // what its channel offers: {tag, status} and code (all of it only
+    // counts while that channel's result is valid)
+    wire [8:0]   f_res     = {c_res_tag[f_ch*5 +: 5], c_res_status[f_ch*4 +: 4]};
+    wire [7:0]   f_res_cmd = c_res_cmd[f_ch*8 +: 8];
+
+    always @(posedge clk) begin
+        f_pf <= f_flush;
+        if (rst) begin
+            f_st <= 2'd0;
+        end else begin
+            case (f_st)
+                2'd0: if (push_ok && f_pick) begin
+                          f_st   <= 2'd1;
+                          f_word <= {p_blocked, reg_wdata};
+                          f_blk  <= f_factory && !f_armed;
+                          f_pos  <= cmd_level - {{(LW-1){1'b0}}, dispatch};
+                          f_can  <= 1'b0;
+                      end
+                2'd1: begin
+                          if (f_flush) f_can <= 1'b1;
+                          if (dispatch) begin
+                              if (f_pos == {LW{1'b0}}) f_st <= 2'd2;
+                              else                     f_pos <= f_pos - 1'b1;
+                          end
+                      end
+                2'd2: begin
+                          f_can <= f_can_now;
+                          if (!slot_full8[f_ch]) f_st <= 2'd3;   // the engine took it
+                      end
+                default: if (f_mine) f_st <= 2'd0;
+            endcase
+        end
+    end
+
+    // its FIFO word, where it waits
+    wire [F_AW:0] f_at = f_cf_rd + f_pos[F_AW:0] - {{F_AW{1'b0}}, f_cf_ov};
+    wire [32:0]   f_stored = (f_pos == {LW{1'b0}} && f_cf_ov) ? cmd_head
+                                                               : f_cf_mem[f_at[F_AW-1:0]*33 +: 33];
+
+    always @(*) begin
+        f_k = 0;
+        if (f_ok) begin
+            // ---- the command FIFO as the core relies on it
+            assert(f_cf_n <= FIFO_DEPTH && cmd_level <= F_DEPTH);
+            assert(cmd_level == f_cf_n + {{F_AW{1'b0}}, f_cf_ov});
+            assert(cmd_empty == !f_cf_ov);
+            assert(cmd_full == (cmd_level == F_DEPTH));
+            // every queued command names a channel that exists (the push
+            // refuses the others), so a dispatch always lands in a slot
+            if (f_cf_ov) assert({1'b0, cmd_head[26:24]} < CH_COUNT);
+            for (f_k = 0; f_k < FIFO_DEPTH; f_k = f_k + 1)
+                if (f_k < f_cf_n)
+                    assert({1'b0, f_cf_mem[((f_cf_rd[F_AW-1:0] + f_k) % FIFO_DEPTH)*33 + 24 +: 3]} < CH_COUNT);
+
+            // ---- dispatch: one word out of the FIFO, into a free slot of
+            // the channel it names (the channel's own proof assumes this)
+            if (dispatch)
+                assert(f_cf_ov && disp_ch == cmd_head[26:24] &&
+                       {1'b0, disp_ch} < CH_COUNT && !slot_full8[disp_ch]);
+            for (f_k = 0; f_k < CHANNELS; f_k = f_k + 1)
+                if (c_res_valid[f_k]) assert(c_busy[f_k]);     // stand-in state
+            // a flush counts down only the commands queued before it
+            assert(flush_left <= cmd_level);
+
+            // ---- none lost, none doubled: every accepted push is queued,
+            // in a slot, in an engine, or was put as one result into the
+            // result FIFO
+            assert(f_pend == {1'b0, cmd_level} + {1'b0, f_inch});
+
+            // ---- the factory verdict stored with each push
+            assert(factory_armed == f_armed);
+            if (push_ok) assert(p_blocked == (f_factory && !f_armed));
+
+            // ---- the followed command
+            if (f_st != 2'd0) assert(f_word[32] == f_blk);
+            if (f_st == 2'd1) begin
+                assert(f_pos < cmd_level);
+                assert(f_stored == f_word);
+                // the flush still counts it down exactly when it was queued
+                // before the flush was written
+                assert(f_can == (f_pos < flush_left));
+            end
+            if (f_st != 2'd0) assert({1'b0, f_ch} < CH_COUNT);
+            if (f_st == 2'd2 && slot_full8[f_ch])
+                // in the slot as pushed; blocked or cancelled as it must be
+                assert(f_slot[16:0] == {f_skip, f_word[31:27], f_word[7:0]});
+            if ((f_st == 2'd2 && !slot_full8[f_ch]) || f_st == 2'd3) begin
+                assert(f_busy8[f_ch] && f_eng[16:0] == {f_skip, f_word[31:27], f_word[7:0]});
+                if (f_st == 2'd2) assert(!c_res_valid8[f_ch]);
+            end
+            // its one result, offered and then put into the result FIFO:
+            // its tag, channel and code, and its status
+            if (f_st == 2'd3 && c_res_valid8[f_ch]) begin
+                assert(f_res[8:4] == f_word[31:27] && f_res_cmd == f_word[7:0]);
+                if (f_skip != 4'd0) assert(f_res[3:0] == f_skip);
+                else                assert(f_res[3:0] <= `TWH_ST_LINE_STUCK_HIGH);
+            end
+        end
+    end
+
+    // the followed command does reach each ending, and a flush does catch
+    // one waiting in its slot
+    always @(posedge clk) begin
+        if (f_ok && !rst) begin
+            cover(f_mine && f_skip == 4'd0);
+            cover(f_mine && f_skip == `TWH_ST_BLOCKED);
+            cover(f_mine && f_skip == `TWH_ST_CANCELLED);
+            cover(f_st == 2'd2 && f_pf && slot_full8[f_ch] && !f_can);
+            cover(cmd_full && f_inch == 5'd2 * CH_COUNT);
+        end
+    end
+`endif
+`endif
 endmodule
 `default_nettype wire

@@ -193,7 +193,9 @@ module twh_link #(
         if (rst) begin
             rdy         <= 1'b0;
             ph          <= `TWH_PH_IDLE;
-            cnt         <= `TWH_TURNAROUND_MIN;
+            // one more: the first tick after reset already counts, and the
+            // line must rest at least the full minimum turnaround
+            cnt         <= `TWH_TURNAROUND_MIN + 16'd1;
             pending     <= 1'b0;
             cmd_r       <= 8'd0;
             tag_r       <= {TAG_W{1'b0}};
@@ -376,14 +378,14 @@ module twh_link #(
         : {11'h7FF, 2'b11, f_chk, 1'b0, 2'b11, f_pay[7:0], 1'b0, 2'b11, f_code, 1'b0};
 
     // ------------------------------------------------ phase lengths
-    // f_dur: the length loaded for the current phase (2000 for the hold-off
+    // f_dur: the length loaded for the current phase (2001 for the hold-off
     // after reset); f_ticks: ticks of it already over; f_dur_unl: whether
     // cfg_unlock was set when that length was picked.
     reg [15:0] f_dur, f_ticks;
     reg        f_dur_unl;
     always @(posedge clk) begin
         if (rst) begin
-            f_dur     <= `TWH_TURNAROUND_MIN;
+            f_dur     <= `TWH_TURNAROUND_MIN + 16'd1;
             f_ticks   <= 16'd0;
             f_dur_unl <= 1'b0;
         end else if (f_leave) begin
@@ -406,17 +408,19 @@ module twh_link #(
         end
     endfunction
 
+    // the windows of the spec's section 4 table, written out here rather
+    // than taken from twh_defs.vh, so that a wrong constant there shows
     function f_in_window;
         input [2:0]  p;
         input [15:0] d;
         begin
             case (p)
-                `TWH_PH_CHARGE:     f_in_window = d >= `TWH_CHARGE_MIN;
-                `TWH_PH_SYNC:       f_in_window = d >= `TWH_SYNC_MIN && d <= `TWH_SYNC_MAX;
-                `TWH_PH_PREAMBLE:   f_in_window = d >= `TWH_PREAMBLE_MIN && d <= `TWH_PREAMBLE_MAX;
-                `TWH_PH_EXECUTE:    f_in_window = d >= `TWH_EXECUTE_MIN && d <= `TWH_EXECUTE_MAX;
-                `TWH_PH_LISTEN:     f_in_window = d >= `TWH_LISTEN_MIN;
-                `TWH_PH_TURNAROUND: f_in_window = d >= `TWH_TURNAROUND_MIN;
+                `TWH_PH_CHARGE:     f_in_window = d >= 16'd7000;
+                `TWH_PH_SYNC:       f_in_window = d >= 16'd900 && d <= 16'd1100;
+                `TWH_PH_PREAMBLE:   f_in_window = d >= 16'd1800 && d <= 16'd2200;
+                `TWH_PH_EXECUTE:    f_in_window = d >= 16'd3500 && d <= 16'd10000;
+                `TWH_PH_LISTEN:     f_in_window = d >= 16'd2000;
+                `TWH_PH_TURNAROUND: f_in_window = d >= 16'd2000;
                 default:            f_in_window = 1'b1;
             endcase
         end
@@ -428,13 +432,13 @@ module twh_link #(
     reg [15:0] f_want;
     always @(*) begin
         case (f_nph)
-            `TWH_PH_CHARGE:     f_want = f_clamp(f_cfg2[95:80], `TWH_CHARGE_MIN, `TWH_US_MAX, f_unl2);
-            `TWH_PH_SYNC:       f_want = f_clamp(f_cfg2[79:64], `TWH_SYNC_MIN, `TWH_SYNC_MAX, f_unl2);
-            `TWH_PH_PREAMBLE:   f_want = f_clamp(f_cfg2[63:48], `TWH_PREAMBLE_MIN, `TWH_PREAMBLE_MAX, f_unl2);
+            `TWH_PH_CHARGE:     f_want = f_clamp(f_cfg2[95:80], 16'd7000, 16'd65535, f_unl2);
+            `TWH_PH_SYNC:       f_want = f_clamp(f_cfg2[79:64], 16'd900, 16'd1100, f_unl2);
+            `TWH_PH_PREAMBLE:   f_want = f_clamp(f_cfg2[63:48], 16'd1800, 16'd2200, f_unl2);
             `TWH_PH_COMMAND:    f_want = f_long ? 16'd1408 : 16'd1056;
-            `TWH_PH_EXECUTE:    f_want = f_clamp(f_cfg2[47:32], `TWH_EXECUTE_MIN, `TWH_EXECUTE_MAX, f_unl2);
-            `TWH_PH_LISTEN:     f_want = f_clamp(f_cfg2[31:16], `TWH_LISTEN_MIN, `TWH_US_MAX, f_unl2);
-            `TWH_PH_TURNAROUND: f_want = f_clamp(f_cfg2[15:0], `TWH_TURNAROUND_MIN, `TWH_US_MAX, f_unl2);
+            `TWH_PH_EXECUTE:    f_want = f_clamp(f_cfg2[47:32], 16'd3500, 16'd10000, f_unl2);
+            `TWH_PH_LISTEN:     f_want = f_clamp(f_cfg2[31:16], 16'd2000, 16'd65535, f_unl2);
+            `TWH_PH_TURNAROUND: f_want = f_clamp(f_cfg2[15:0], 16'd2000, 16'd65535, f_unl2);
             default:            f_want = 16'd1;     // back to idle: ready at the next tick
         endcase
     end
@@ -446,7 +450,7 @@ module twh_link #(
             assert(f_ticks < f_dur);
             assert(cnt + f_ticks == f_dur);
             if (ph == `TWH_PH_IDLE)
-                assert(f_dur == 16'd1 || f_dur == `TWH_TURNAROUND_MIN);
+                assert(f_dur == 16'd1 || f_dur == `TWH_TURNAROUND_MIN + 16'd1);
 
             // ---- every phase lasts exactly its loaded length ...
             if (f_leave && ph != `TWH_PH_IDLE) assert(f_ticks + 16'd1 == f_dur);
@@ -555,6 +559,13 @@ module twh_link #(
                      (f_lp == `TWH_PH_EXECUTE) || (f_lp == `TWH_PH_COMMAND && f_txl) ||
                      (f_lp == `TWH_PH_IDLE && f_ic);
 
+    // no command other than skipped ones accepted since reset
+    reg f_skips_only;
+    always @(posedge clk) begin
+        if (rst)                             f_skips_only <= 1'b1;
+        else if (accept && s_cmd_skip == 4'd0) f_skips_only <= 1'b0;
+    end
+
     // consecutive clocks the pin has been high before this one
     reg [7:0] f_hi = 8'd0;
     always @(posedge clk) f_hi <= line_o ? f_hi + 1'b1 : 8'd0;
@@ -574,6 +585,9 @@ module twh_link #(
             if (line_o) assert(f_carrier);
             // ... and there, every period starts with its high half
             if (f_tdd) assert(line_o == f_carrier);
+            // skipped commands leave the pins exactly as idle has them
+            if (f_skips_only) assert(!pending && ph == `TWH_PH_IDLE && f_lp == `TWH_PH_IDLE &&
+                                     line_oe == f_ic && (!line_o || f_ic));
             // each high half lasts exactly F_H clocks and starts with a
             // period: no runt pulse, whatever the phases do
             if (line_o) assert(f_hi < F_H8 && (f_hi != 8'd0 || f_tdd));
@@ -609,10 +623,11 @@ module twh_link #(
                 assert(f_clk == {4'd0, f_ticks} * F_P20 + {12'd0, f_since});
             // a phase lasts f_dur periods of F_P clocks: f_dur microseconds
             if (f_leave && ph != `TWH_PH_IDLE) assert(f_clk == {4'd0, f_dur} * F_P20);
-            // after a reset no charge before the hold-off's 2000 periods
+            // after a reset no charge before the hold-off's 2001 periods
             // (the first of which began F_P - 1 clocks before the reset
-            // ended), so the line rests at least 1999 periods + 3 clocks
-            if (f_leave && ph == `TWH_PH_IDLE && f_dur == `TWH_TURNAROUND_MIN)
+            // ended), so the line rests at least 2000 periods + 3 clocks:
+            // the full minimum turnaround
+            if (f_leave && ph == `TWH_PH_IDLE && f_dur == `TWH_TURNAROUND_MIN + 16'd1)
                 assert(f_clk >= {4'd0, f_dur} * F_P20);
         end
     end

@@ -1,0 +1,136 @@
+// Formal-only stand-in for twh_channel in formal/twh_core.sby. It keeps the
+// command path of the channel as formal/twh_channel.sby proves it (the core
+// loads the slot only while it is free; the core job checks that) and
+// nothing else:
+//   - slot_load fills the one-entry slot; the slot empties when the engine
+//     takes the command, at a free moment, but only while the engine holds
+//     no other command from the slot (nor its result);
+//   - cancel makes a command still waiting in the slot CANCELLED, unless
+//     the engine takes it in that same clock;
+//   - each slot command gives exactly one result, in order: its own tag and
+//     code, its skip status when it had one (never sent), a link status
+//     (0-6) otherwise; the result stays offered, unchanged, until res_ready.
+// Polls, the registers, the pins and the interrupt sources are left free:
+// the core proof reads none of them.
+//
+// Liberties, invisible to the core's logic, that let the core's proof see
+// the stand-in's state: `busy` is exactly "the engine holds a command from
+// the slot, or its result" (the real one also counts polls and the engine's
+// turnaround; the core only shows it in STATUS), and the read-back ports
+// TIMING0 and TIMING1 carry the slot's and the engine's command (the core
+// only copies them to reg_rdata, which no property of that job reads).
+`default_nettype none
+`include "twh_defs.vh"
+module twh_channel #(
+    parameter integer CLK_HZ = 48_000_000
+) (
+    input  wire        clk,
+    input  wire        rst,
+    input  wire        ms_tick,
+    input  wire        enable,
+    input  wire        idle_charge,
+    input  wire        lab,
+    input  wire [31:0] wdata,
+    input  wire        wr_timing0,
+    input  wire        wr_timing1,
+    input  wire        wr_timing2,
+    input  wire        wr_poll_ctrl,
+    output wire [31:0] timing0,
+    output wire [31:0] timing1,
+    output wire [31:0] timing2,
+    output wire [31:0] poll_ctrl,
+    output wire [31:0] poll_result,
+    output wire [31:0] state,
+    output reg         value_refused,
+    output reg         poll_sample,
+    output reg         poll_error,
+    input  wire        slot_load,
+    input  wire [7:0]  slot_cmd_i,
+    input  wire [15:0] slot_payload_i,
+    input  wire [4:0]  slot_tag_i,
+    input  wire [3:0]  slot_skip_i,
+    input  wire        cancel,
+    output reg         slot_full,
+    output reg         res_valid,
+    input  wire        res_ready,
+    output reg  [7:0]  res_cmd,
+    output reg  [15:0] res_data,
+    output reg  [3:0]  res_status,
+    output reg  [4:0]  res_tag,
+    output wire        line_o,
+    output wire        line_oe,
+    input  wire        line_i,
+    output wire        busy
+);
+    (* anyseq *) reg        f_take, f_done;
+    (* anyseq *) reg [3:0]  f_status;
+    (* anyseq *) reg [15:0] f_data;
+    (* anyseq *) reg [31:0] f_t2, f_pc, f_pr;
+    (* anyseq *) reg [2:0]  f_phase;
+    (* anyseq *) reg        f_refused, f_sample, f_perr, f_line_o, f_line_oe;
+
+    reg [7:0] s_cmd;
+    reg [4:0] s_tag;
+    reg [3:0] s_skip;
+    reg       eng;          // the engine holds a slot command or its result
+    reg [7:0] e_cmd;
+    reg [4:0] e_tag;
+    reg [3:0] e_skip;
+
+    wire take = slot_full && !eng && f_take;
+    wire [3:0] link_status = (f_status > `TWH_ST_LINE_STUCK_HIGH) ? `TWH_ST_NO_RESPONSE : f_status;
+
+    always @(posedge clk) begin
+        if (rst) begin
+            slot_full <= 1'b0;
+            eng       <= 1'b0;
+            res_valid <= 1'b0;
+        end else begin
+            if (slot_load) begin
+                slot_full <= 1'b1;
+                s_cmd     <= slot_cmd_i;
+                s_tag     <= slot_tag_i;
+                s_skip    <= slot_skip_i;
+            end else if (take) begin
+                slot_full <= 1'b0;
+            end
+            if (cancel && slot_full && !take) s_skip <= `TWH_ST_CANCELLED;
+
+            if (take) begin
+                eng    <= 1'b1;
+                e_cmd  <= s_cmd;
+                e_tag  <= s_tag;
+                e_skip <= s_skip;
+            end else if (res_valid && res_ready) begin
+                eng       <= 1'b0;
+                res_valid <= 1'b0;
+            end else if (eng && !res_valid && f_done) begin
+                res_valid  <= 1'b1;
+                res_cmd    <= e_cmd;
+                res_tag    <= e_tag;
+                res_status <= (e_skip != 4'd0) ? e_skip : link_status;
+                res_data   <= (e_skip == 4'd0 && (link_status == `TWH_ST_OK ||
+                                                  link_status == `TWH_ST_BAD_CHECKSUM)) ? f_data : 16'd0;
+            end
+        end
+        value_refused <= f_refused;
+        poll_sample   <= f_sample;
+        poll_error    <= f_perr;
+    end
+
+    assign busy        = eng;
+    assign timing0     = {15'd0, s_skip, s_tag, s_cmd};
+    assign timing1     = {15'd0, e_skip, e_tag, e_cmd};
+    assign timing2     = f_t2;
+    assign poll_ctrl   = f_pc;
+    assign poll_result = f_pr;
+    assign state       = {27'd0, slot_full, eng, f_phase};
+    assign line_o      = f_line_o;
+    assign line_oe     = f_line_oe;
+
+    // verilator lint_off UNUSEDSIGNAL
+    wire unused = &{1'b0, ms_tick, enable, idle_charge, lab, wdata, wr_timing0, wr_timing1,
+                    wr_timing2, wr_poll_ctrl, slot_payload_i, line_i};
+    // verilator lint_on UNUSEDSIGNAL
+endmodule
+`default_nettype wire
