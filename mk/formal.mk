@@ -31,4 +31,6 @@ formal: deps
 # must make its job fail; not part of `formal` (two to three minutes).
 .PHONY: formal-mutants
 formal-mutants: deps
-	@bash formal/mutate.sh
+	@mkdir -p build/formal && cat formal/mutants.tsv formal/twh_link_mutants.tsv \
+	    formal/twh_channel_mutants.tsv formal/twh_core_mutants.tsv > build/formal/all_mutants.tsv
+	@bash formal/mutate.sh build/formal/all_mutants.tsv
