@@ -31,6 +31,7 @@ module twh_channel #(
     input  wire        idle_charge,
     input  wire        lab,
     input  wire [31:0] wdata,
+    input  wire        wdata_ok,
     input  wire        wr_timing0,
     input  wire        wr_timing1,
     input  wire        wr_timing2,
@@ -41,7 +42,7 @@ module twh_channel #(
     output wire [31:0] poll_ctrl,
     output wire [31:0] poll_result,
     output wire [31:0] state,
-    output reg         value_refused,
+    output wire        value_refused,
     output reg         poll_sample,
     output reg         poll_error,
     input  wire        slot_load,
@@ -113,11 +114,11 @@ module twh_channel #(
                                                   link_status == `TWH_ST_BAD_CHECKSUM)) ? f_data : 16'd0;
             end
         end
-        value_refused <= f_refused;
         poll_sample   <= f_sample;
         poll_error    <= f_perr;
     end
 
+    assign value_refused = f_refused;     // combinational, as in twh_channel
     assign busy        = eng;
     assign timing0     = {15'd0, s_skip, s_tag, s_cmd};
     assign timing1     = {15'd0, e_skip, e_tag, e_cmd};
@@ -129,7 +130,7 @@ module twh_channel #(
     assign line_oe     = f_line_oe;
 
     // verilator lint_off UNUSEDSIGNAL
-    wire unused = &{1'b0, ms_tick, enable, idle_charge, lab, wdata, wr_timing0, wr_timing1,
+    wire unused = &{1'b0, ms_tick, enable, idle_charge, lab, wdata, wdata_ok, wr_timing0, wr_timing1,
                     wr_timing2, wr_poll_ctrl, slot_payload_i, line_i};
     // verilator lint_on UNUSEDSIGNAL
 endmodule

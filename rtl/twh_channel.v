@@ -4,9 +4,9 @@
 //
 // - Timing writes are refused as a whole when a field lies outside the spec
 //   window (unless the lab unlock is on): the register keeps its value and
-//   `value_refused` pulses. The engine clamps as well, as a last defence.
-// - A poll write that switches polling on is refused unless the command is
-//   read-only (0x40-0x44, 0x46-0x49): a poller must never erase or write a
+//   `value_refused` is raised. The core takes that verdict (`wdata_ok`). The engine clamps as well, as a last defence.
+// - A poll write that switches polling on is refused (`wdata_ok`, the
+//   core's verdict) unless the command is read-only (0x40-0x44, 0x46-0x49): a poller must never erase or write a
 //   sensor's flash. Switching it off is always accepted.
 // - When a queued command and a due poll both wait for the engine they take
 //   turns, so neither can starve the other.
@@ -25,6 +25,7 @@ module twh_channel #(
     input  wire        lab,
     // register writes, decoded by the core (one-clock strobes)
     input  wire [31:0] wdata,
+    input  wire        wdata_ok,       // in the window (or lab); POLL_CTRL: off or read-only
     input  wire        wr_timing0,
     input  wire        wr_timing1,
     input  wire        wr_timing2,
@@ -35,7 +36,7 @@ module twh_channel #(
     output wire [31:0] poll_ctrl,
     output wire [31:0] poll_result,
     output wire [31:0] state,
-    output reg         value_refused,
+    output wire        value_refused,  // same clock as the refused write
     output reg         poll_sample,    // a poll result arrived
     output reg         poll_error,     // ... and it was a link error
     // command slot
@@ -68,24 +69,16 @@ module twh_channel #(
     reg [3:0]  poll_status;
     reg [11:0] poll_count;
 
-    function in_window;
-        input [15:0] v, lo, hi;
-        in_window = (v >= lo) && (v <= hi);
-    endfunction
+    // The core checks each written value once for every channel (from the
+    // bus data, a clock before the write reaches the channel), so the
+    // registers' enables start from its flip-flops; `wdata_ok` is that
+    // verdict for the register being written.
+    wire ok0 = wdata_ok, ok1 = wdata_ok, ok2 = wdata_ok, ok_poll = wdata_ok;
 
-    wire [15:0] w_lo = wdata[15:0];
-    wire [15:0] w_hi = wdata[31:16];
-    wire ok0 = lab || (in_window(w_lo, `TWH_CHARGE_MIN, `TWH_US_MAX) &&
-                       in_window(w_hi, `TWH_SYNC_MIN, `TWH_SYNC_MAX));
-    wire ok1 = lab || (in_window(w_lo, `TWH_PREAMBLE_MIN, `TWH_PREAMBLE_MAX) &&
-                       in_window(w_hi, `TWH_EXECUTE_MIN, `TWH_EXECUTE_MAX));
-    wire ok2 = lab || (in_window(w_lo, `TWH_LISTEN_MIN, `TWH_US_MAX) &&
-                       in_window(w_hi, `TWH_TURNAROUND_MIN, `TWH_US_MAX));
-    wire [7:0] w_cmd = wdata[7:0];
-    // the command is checked only when polling is switched on, so writing 0
-    // always stops polling
-    wire ok_poll = !wdata[31] ||
-                   (w_cmd >= 8'h40 && w_cmd <= 8'h44) || (w_cmd >= 8'h46 && w_cmd <= 8'h49);
+    // combinational, so the core's ERRORS bit is set in the same clock the
+    // register would have taken the value
+    assign value_refused = (wr_timing0 && !ok0) || (wr_timing1 && !ok1) ||
+                           (wr_timing2 && !ok2) || (wr_poll_ctrl && !ok_poll);
 
     always @(posedge clk) begin
         if (rst) begin
@@ -99,13 +92,10 @@ module twh_channel #(
             poll_payload  <= 8'hAA;
             poll_interval <= 15'd1000;
             poll_en       <= 1'b0;
-            value_refused <= 1'b0;
         end else begin
-            value_refused <= (wr_timing0 && !ok0) || (wr_timing1 && !ok1) ||
-                             (wr_timing2 && !ok2) || (wr_poll_ctrl && !ok_poll);
-            if (wr_timing0 && ok0) begin t_charge   <= w_lo; t_sync       <= w_hi; end
-            if (wr_timing1 && ok1) begin t_preamble <= w_lo; t_execute    <= w_hi; end
-            if (wr_timing2 && ok2) begin t_listen   <= w_lo; t_turnaround <= w_hi; end
+            if (wr_timing0 && ok0) begin t_charge   <= wdata[15:0]; t_sync       <= wdata[31:16]; end
+            if (wr_timing1 && ok1) begin t_preamble <= wdata[15:0]; t_execute    <= wdata[31:16]; end
+            if (wr_timing2 && ok2) begin t_listen   <= wdata[15:0]; t_turnaround <= wdata[31:16]; end
             if (wr_poll_ctrl && ok_poll) begin
                 poll_cmd      <= wdata[7:0];
                 poll_payload  <= wdata[15:8];
@@ -299,6 +289,19 @@ module twh_channel #(
     wire f_takep = !wdata[31] || f_ro(wdata[7:0]);
     wire f_refuse = (wr_timing0 && !f_take0) || (wr_timing1 && !f_take1) ||
                     (wr_timing2 && !f_take2) || (wr_poll_ctrl && !f_takep);
+    // the core's verdict is right for the register written (proven on the
+    // core: twh_core's f_cw_ok)
+    wire f_ok_right = (!wr_timing0 || wdata_ok == f_take0) && (!wr_timing1 || wdata_ok == f_take1) &&
+                      (!wr_timing2 || wdata_ok == f_take2) && (!wr_poll_ctrl || wdata_ok == f_takep);
+    always @(*) begin
+        if (f_ok && !rst) begin
+`ifdef TWH_F_CHANNEL
+            assume(f_ok_right);
+`else
+            assert(f_ok_right);
+`endif
+        end
+    end
     // whether the lab unlock was on when each timing register last took a
     // value (the reset defaults are in the window)
     reg f_lab0, f_lab1, f_lab2;
@@ -324,6 +327,9 @@ module twh_channel #(
             if (!f_lab0) assert(f_win0(timing0));
             if (!f_lab1) assert(f_win1(timing1));
             if (!f_lab2) assert(f_win2(timing2));
+            // a refused write is flagged in its own clock (the verdict is
+            // the core's, assumed right outside reset)
+            if (!rst) assert(value_refused == f_refuse);
             // the poller is only ever armed with, and only ever hands the
             // engine, a read-only command
             if (poll_en) assert(f_ro(poll_cmd));
@@ -347,7 +353,6 @@ module twh_channel #(
                 assert(timing2 == ($past(f_take2) ? $past(wdata) : $past(timing2)));
             if ($past(wr_poll_ctrl && f_takep))
                 assert(poll_ctrl == $past(wdata));
-            assert(value_refused == $past(f_refuse));
             // a result to the core stays offered, unchanged, until taken
             if ($past(res_valid && !res_ready))
                 assert(res_valid && $stable({res_cmd, res_data, res_status, res_tag}));

@@ -192,18 +192,54 @@ module twh_core #(
     wire [CHANNELS*32-1:0] c_t0, c_t1, c_t2, c_pc, c_pr, c_st;
     wire [CHANNELS-1:0] c_refused, c_sample, c_poll_err, c_busy;
 
+    // Channel register writes go through one register stage: the bus data
+    // then reaches the window checks and the registers' enables from
+    // flip-flops, not from the bus master's logic. A write takes effect on
+    // the second clock; both wrappers start requests at least two clocks
+    // apart, so the next access already sees it (and ERRORS: the channels'
+    // refusal is combinational from this stage).
+    // The value is checked here, once for all channels, and the verdict is
+    // staged with it.
+    reg        cw_q, cw_ok;
+    reg [2:0]  cw_ch, cw_reg;
+    reg [31:0] cw_data;
+    wire [15:0] w_lo = reg_wdata[15:0];
+    wire [15:0] w_hi = reg_wdata[31:16];
+    wire [7:0]  w_cmd = reg_wdata[7:0];
+    reg         w_ok;
+    always @(*) begin
+        case (ch_reg[1:0])
+            2'd0: w_ok = lab || (w_lo >= `TWH_CHARGE_MIN &&
+                                 w_hi >= `TWH_SYNC_MIN && w_hi <= `TWH_SYNC_MAX);
+            2'd1: w_ok = lab || (w_lo >= `TWH_PREAMBLE_MIN && w_lo <= `TWH_PREAMBLE_MAX &&
+                                 w_hi >= `TWH_EXECUTE_MIN && w_hi <= `TWH_EXECUTE_MAX);
+            2'd2: w_ok = lab || (w_lo >= `TWH_LISTEN_MIN && w_hi >= `TWH_TURNAROUND_MIN);
+            // POLL_CTRL: the command is checked only when polling is switched
+            // on, so writing 0 always stops polling; never the lab's say
+            default: w_ok = !reg_wdata[31] || (w_cmd >= 8'h40 && w_cmd <= 8'h44) ||
+                                              (w_cmd >= 8'h46 && w_cmd <= 8'h49);
+        endcase
+    end
+    always @(posedge clk) begin
+        cw_q    <= !rst && wr && ch_exists && ch_reg <= 3'd3;
+        cw_ok   <= w_ok;
+        cw_ch   <= ch_sel;
+        cw_reg  <= ch_reg;
+        cw_data <= reg_wdata;
+    end
+
     genvar n;
     generate
         for (n = 0; n < CHANNELS; n = n + 1) begin : g_ch
-            wire sel = ch_exists && (ch_sel == n);
+            wire sel = cw_q && (cw_ch == n);
             twh_channel #(.CLK_HZ(CLK_HZ)) u_ch (
                 .clk(clk), .rst(rst), .ms_tick(ms_tick),
                 .enable(enable), .idle_charge(idle_charge[n]), .lab(lab),
-                .wdata(reg_wdata),
-                .wr_timing0(wr && sel && ch_reg == 3'd0),
-                .wr_timing1(wr && sel && ch_reg == 3'd1),
-                .wr_timing2(wr && sel && ch_reg == 3'd2),
-                .wr_poll_ctrl(wr && sel && ch_reg == 3'd3),
+                .wdata(cw_data), .wdata_ok(cw_ok),
+                .wr_timing0(sel && cw_reg == 3'd0),
+                .wr_timing1(sel && cw_reg == 3'd1),
+                .wr_timing2(sel && cw_reg == 3'd2),
+                .wr_poll_ctrl(sel && cw_reg == 3'd3),
                 .timing0(c_t0[n*32 +: 32]), .timing1(c_t1[n*32 +: 32]),
                 .timing2(c_t2[n*32 +: 32]), .poll_ctrl(c_pc[n*32 +: 32]),
                 .poll_result(c_pr[n*32 +: 32]), .state(c_st[n*32 +: 32]),
@@ -386,6 +422,31 @@ module twh_core #(
         // every request is answered on the next clock, and nothing else is;
         // a reset cancels the answer
         if (f_h) assert(reg_ack == $past(reg_req && !rst));
+    end
+
+    // The verdict staged with a channel write is the rule for the register
+    // written, with the lab unlock as it is while the write is applied (a
+    // request that could change it is the staged write itself). The windows
+    // are written out here rather than taken from twh_defs.vh.
+    reg f_rs = 1'b0;          // a reset has been seen
+    always @(posedge clk) if (rst) f_rs <= 1'b1;
+    wire [15:0] f_lo = cw_data[15:0], f_hi = cw_data[31:16];
+    wire [7:0]  f_c  = cw_data[7:0];
+    reg         f_cw_ok;
+    always @(*) begin
+        case (cw_reg)
+            3'd0: f_cw_ok = lab || (f_lo >= 16'd7000 && f_hi >= 16'd900 && f_hi <= 16'd1100);
+            3'd1: f_cw_ok = lab || (f_lo >= 16'd1800 && f_lo <= 16'd2200 &&
+                                    f_hi >= 16'd3500 && f_hi <= 16'd10000);
+            3'd2: f_cw_ok = lab || (f_lo >= 16'd2000 && f_hi >= 16'd2000);
+            3'd3: f_cw_ok = !cw_data[31] || (f_c >= 8'h40 && f_c <= 8'h44) ||
+                                            (f_c >= 8'h46 && f_c <= 8'h49);
+            default: f_cw_ok = 1'b0;
+        endcase
+        if (f_rs && cw_q) begin
+            assert(cw_reg <= 3'd3 && {1'b0, cw_ch} < CH_COUNT);
+            assert(cw_ok == f_cw_ok);
+        end
     end
 
 `ifdef TWH_F_CORE

@@ -49,10 +49,10 @@ module twh_link #(
     // result stream
     output reg              m_res_valid,
     input  wire             m_res_ready,
-    output reg  [7:0]       m_res_code,
+    output wire [7:0]       m_res_code,     // the command's own registers: held
     output reg  [15:0]      m_res_data,
     output reg  [3:0]       m_res_status,
-    output reg  [TAG_W-1:0] m_res_tag,
+    output wire [TAG_W-1:0] m_res_tag,      // until the result is taken
     // the 2-wire pin
     output reg              line_o,
     output reg              line_oe,
@@ -141,7 +141,7 @@ module twh_link #(
     localparam [2:0] W_NONE = 3'd0, W_CHARGE = 3'd1, W_SYNC = 3'd2, W_PREAMBLE = 3'd3,
                      W_EXECUTE = 3'd4, W_LISTEN = 3'd5, W_TURN = 3'd6;
     reg [15:0] nx_v, pick_v;
-    reg [2:0]  nx_w, pick_w;        // which window applies (W_NONE: fixed length)
+    reg [2:0]  nx_w;                // which window applies (W_NONE: fixed length)
     always @(*) begin
         case (ph)
             `TWH_PH_IDLE:     begin nx_v = cfg_charge_us;     nx_w = W_CHARGE;   end
@@ -154,9 +154,12 @@ module twh_link #(
             default:          begin nx_v = 16'd1;             nx_w = W_NONE;     end   // idle: no hold-off after a turnaround
         endcase
     end
-    reg [15:0] w_lo, w_hi;
+    // The window's bounds are registered beside the value (not picked from
+    // a registered window code), so the clamp's comparators start straight
+    // from flip-flops.
+    reg [15:0] w_lo, w_hi, pick_lo, pick_hi;
     always @(*) begin
-        case (pick_w)
+        case (cfg_unlock ? W_NONE : nx_w)       // W_NONE: at least 1, no window
             W_CHARGE:   begin w_lo = `TWH_CHARGE_MIN;     w_hi = `TWH_US_MAX;       end
             W_SYNC:     begin w_lo = `TWH_SYNC_MIN;       w_hi = `TWH_SYNC_MAX;     end
             W_PREAMBLE: begin w_lo = `TWH_PREAMBLE_MIN;   w_hi = `TWH_PREAMBLE_MAX; end
@@ -167,11 +170,12 @@ module twh_link #(
         endcase
     end
     always @(posedge clk) begin
-        pick_v <= nx_v;
-        pick_w <= cfg_unlock ? W_NONE : nx_w;    // W_NONE: at least 1, no window
-        if (pick_v < w_lo)      dur_next <= w_lo;
-        else if (pick_v > w_hi) dur_next <= w_hi;
-        else                    dur_next <= pick_v;
+        pick_v  <= nx_v;
+        pick_lo <= w_lo;
+        pick_hi <= w_hi;
+        if (pick_v < pick_lo)      dur_next <= pick_lo;
+        else if (pick_v > pick_hi) dur_next <= pick_hi;
+        else                       dur_next <= pick_v;
     end
 
     wire last = (cnt == 16'd1);
@@ -206,10 +210,8 @@ module twh_link #(
             saw_low     <= 1'b0;
             saw_high    <= 1'b0;
             m_res_valid <= 1'b0;
-            m_res_code  <= 8'd0;
             m_res_data  <= 16'd0;
             m_res_status<= 4'd0;
-            m_res_tag   <= {TAG_W{1'b0}};
         end else begin
             if (m_res_valid && m_res_ready) m_res_valid <= 1'b0;
             rdy <= (ph == `TWH_PH_IDLE) && !pending && !m_res_valid && !accept;
@@ -217,8 +219,8 @@ module twh_link #(
             if (accept && s_cmd_skip != 4'd0) begin
                 // blocked or cancelled upstream: the line is never touched
                 m_res_valid  <= 1'b1;
-                m_res_code   <= s_cmd_code;
-                m_res_tag    <= s_cmd_tag;
+                cmd_r        <= s_cmd_code;
+                tag_r        <= s_cmd_tag;
                 m_res_status <= s_cmd_skip;
                 m_res_data   <= 16'd0;
             end else if (accept) begin
@@ -263,8 +265,6 @@ module twh_link #(
                     end
                     if (ph == `TWH_PH_LISTEN) begin
                         m_res_valid  <= 1'b1;
-                        m_res_code   <= cmd_r;
-                        m_res_tag    <= tag_r;
                         m_res_status <= rx_status;
                         m_res_data   <= rx_data_ok ? rx_bytes[23:8] : 16'd0;
                     end
@@ -309,6 +309,11 @@ module twh_link #(
             end
         end
     end
+
+    // No command is accepted while a result waits (rdy), so the command's
+    // registers are the result's.
+    assign m_res_code = cmd_r;
+    assign m_res_tag  = tag_r;
 
     assign phase = ph;
     assign busy  = (ph != `TWH_PH_IDLE) || pending;
