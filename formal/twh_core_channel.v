@@ -31,7 +31,7 @@ module twh_channel #(
     input  wire        idle_charge,
     input  wire        lab,
     input  wire [31:0] wdata,
-    input  wire        wdata_ok,
+    input  wire [3:0]  wdata_ok,
     input  wire        wr_timing0,
     input  wire        wr_timing1,
     input  wire        wr_timing2,

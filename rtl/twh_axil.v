@@ -117,7 +117,13 @@ module twh_axil #(
     end
 
     // Accesses accepted and not yet answered by a B or R handshake, and the
-    // core's answer to the access in flight.
+    // core's answer to the access in flight; f_q, f_q2: the access in the
+    // core's request stage, and the one being answered.
+    reg        f_q = 1'b0, f_q2 = 1'b0;
+    always @(posedge clk) begin
+        f_q  <= !rst && (do_write || do_read);
+        f_q2 <= !rst && f_q;
+    end
     reg        f_wr_open, f_rd_open;
     reg        f_err;
     reg [31:0] f_rdata;
@@ -156,7 +162,9 @@ module twh_axil #(
             // an open access with no response up yet is in the core
             assert(busy == ((f_wr_open && !s_axil_bvalid) || (f_rd_open && !s_axil_rvalid)));
             assert(!busy || was_write == f_wr_open);
-            assert(ack == busy);
+            // the core answers two clocks after the request (stage, access)
+            assert(ack == f_q2);
+            assert(busy == (f_q || f_q2));
         end
     end
 
@@ -167,10 +175,10 @@ module twh_axil #(
                 assert(s_axil_bvalid && $stable(s_axil_bresp));
             if ($past(s_axil_rvalid && !s_axil_rready))
                 assert(s_axil_rvalid && $stable(s_axil_rresp) && $stable(s_axil_rdata));
-            // the response comes up two clocks after the request: one to
+            // the response comes up three clocks after the request: two to
             // the core's answer, one to the response register
-            if ($past(f_past_valid && !rst && f_aw, 2)) assert(s_axil_bvalid);
-            if ($past(f_past_valid && !rst && f_ar, 2)) assert(s_axil_rvalid);
+            if ($past(f_past_valid && !rst && f_aw, 3) && !$past(rst, 2)) assert(s_axil_bvalid);
+            if ($past(f_past_valid && !rst && f_ar, 3) && !$past(rst, 2)) assert(s_axil_rvalid);
         end
         if (f_ok && f_past_valid && $past(rst))
             assert(!s_axil_bvalid && !s_axil_rvalid);
@@ -180,14 +188,14 @@ module twh_axil #(
     reg [2:0] f_run = 3'd0;    // clocks since reset, saturating
     always @(posedge clk) begin
         if (rst) f_run <= 3'd0;
-        else if (f_ok && f_run != 3'd7) f_run <= f_run + 1'b1;
+        else if (f_ok && f_run != 3'd5) f_run <= f_run + 1'b1;
     end
     always @(posedge clk) begin
-        if (f_run == 3'd7) begin
+        if (f_run == 3'd5) begin
             cover(f_b && s_axil_bresp == 2'b10);
-            cover(f_r && $past(f_b, 3));     // back to back: one access per 3 clocks
+            cover(f_r && $past(f_b, 4));     // back to back: one access per 4 clocks
             // a read and a write arrive together: the write goes first
-            cover(f_ar && $past(s_axil_arvalid && s_axil_awvalid && s_axil_wvalid, 3));
+            cover(f_ar && $past(s_axil_arvalid && s_axil_awvalid && s_axil_wvalid, 4));
         end
     end
 `endif

@@ -4,10 +4,12 @@
 //
 // - Timing writes are refused as a whole when a field lies outside the spec
 //   window (unless the lab unlock is on): the register keeps its value and
-//   `value_refused` is raised. The core takes that verdict (`wdata_ok`). The engine clamps as well, as a last defence.
+//   `value_refused` is raised. The verdict is the core's (`wdata_ok`). The
+//   engine clamps as well, as a last defence.
 // - A poll write that switches polling on is refused (`wdata_ok`, the
-//   core's verdict) unless the command is read-only (0x40-0x44, 0x46-0x49): a poller must never erase or write a
-//   sensor's flash. Switching it off is always accepted.
+//   core's verdict) unless the command is read-only (0x40-0x44,
+//   0x46-0x49): a poller must never erase or write a sensor's flash.
+//   Switching it off is always accepted.
 // - When a queued command and a due poll both wait for the engine they take
 //   turns, so neither can starve the other.
 // - Poll results update POLL_RESULT here and never reach the result FIFO;
@@ -25,7 +27,8 @@ module twh_channel #(
     input  wire        lab,
     // register writes, decoded by the core (one-clock strobes)
     input  wire [31:0] wdata,
-    input  wire        wdata_ok,       // in the window (or lab); POLL_CTRL: off or read-only
+    input  wire [3:0]  wdata_ok,       // per register TIMING0-2, POLL_CTRL: wdata is in its
+                                       // window (or lab); POLL_CTRL: off or read-only
     input  wire        wr_timing0,
     input  wire        wr_timing1,
     input  wire        wr_timing2,
@@ -71,9 +74,9 @@ module twh_channel #(
 
     // The core checks each written value once for every channel (from the
     // bus data, a clock before the write reaches the channel), so the
-    // registers' enables start from its flip-flops; `wdata_ok` is that
-    // verdict for the register being written.
-    wire ok0 = wdata_ok, ok1 = wdata_ok, ok2 = wdata_ok, ok_poll = wdata_ok;
+    // registers' enables start from its flip-flops; `wdata_ok` holds its
+    // verdicts, one per register.
+    wire ok0 = wdata_ok[0], ok1 = wdata_ok[1], ok2 = wdata_ok[2], ok_poll = wdata_ok[3];
 
     // combinational, so the core's ERRORS bit is set in the same clock the
     // register would have taken the value
@@ -291,8 +294,8 @@ module twh_channel #(
                     (wr_timing2 && !f_take2) || (wr_poll_ctrl && !f_takep);
     // the core's verdict is right for the register written (proven on the
     // core: twh_core's f_cw_ok)
-    wire f_ok_right = (!wr_timing0 || wdata_ok == f_take0) && (!wr_timing1 || wdata_ok == f_take1) &&
-                      (!wr_timing2 || wdata_ok == f_take2) && (!wr_poll_ctrl || wdata_ok == f_takep);
+    wire f_ok_right = (!wr_timing0 || ok0 == f_take0) && (!wr_timing1 || ok1 == f_take1) &&
+                      (!wr_timing2 || ok2 == f_take2) && (!wr_poll_ctrl || ok_poll == f_takep);
     always @(*) begin
         if (f_ok && !rst) begin
 `ifdef TWH_F_CHANNEL

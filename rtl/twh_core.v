@@ -1,12 +1,18 @@
 // Bus-agnostic core: CHANNELS twh_channel engines running concurrently, a
 // shared command FIFO and result FIFO, and the registers of
-// rdl/twh_regs.rdl behind a simple one-request-per-clock register port that
-// the Wishbone (twh_wb) and AXI4-Lite (twh_axil) wrappers drive.
+// rdl/twh_regs.rdl behind a simple pipelined register port that the
+// Wishbone (twh_wb) and AXI4-Lite (twh_axil) wrappers drive.
 //
-// Register port: a request (reg_req) is answered on the next clock with
-// reg_ack, reg_err and reg_rdata. Errors: unmapped address, a write with
-// byte enables other than all four, a push into the full command FIFO, a
-// push for an absent channel.
+// Register port: a request (reg_req, with reg_we, reg_addr, reg_wdata,
+// reg_wstrb) is taken into a register stage, carried out on the next clock
+// and answered on the clock after that: reg_ack, reg_err and reg_rdata come
+// two clocks after the request. Requests may follow on every clock; they
+// are carried out in order, so a read sees every earlier write. The stage
+// is there for speed: everything the request decides starts from its
+// flip-flops, and the checks that need a comparator (the timing windows, the
+// unlock keys, the factory-area rule) are taken on the way into it.
+// Errors: unmapped address, a write with byte enables other than all four,
+// a push into the full command FIFO, a push for an absent channel.
 //
 // Dispatch: the command FIFO's head moves into its channel's one-entry slot
 // when that slot is free. A head waiting for a busy channel therefore holds
@@ -78,24 +84,98 @@ module twh_core #(
         end
     end
 
-    // ------------------------------------------------------------ decode
-    wire       is_ch     = (reg_addr[8:6] != 3'd0);           // 0x40 and up
-    wire [3:0] ch_blk    = reg_addr[8:5] - 4'd2;              // channel block
-    wire [2:0] ch_sel    = ch_blk[2:0];
-    wire [2:0] ch_reg    = reg_addr[4:2];
-    wire       ch_exists = is_ch && (ch_blk < CH_COUNT) && (ch_reg <= 3'd5);
-    wire [3:0] g_reg     = reg_addr[5:2];
-    wire       full_word = (reg_wstrb == 4'hF);
-    wire       wr        = reg_req && reg_we && full_word;
-    wire       rd        = reg_req && !reg_we;
+    // ------------------------------------------------------------ request stage
+    // Checks taken on the way in, from the bus data (none depends on state
+    // that the request ahead could change, except the lab unlock, which is
+    // applied after the stage):
+    // - i_win[k]: the value lies in the spec window of channel register k
+    //   (TIMING0-2), or (k = 3, POLL_CTRL) switches polling off or names a
+    //   read-only command; taken for all four, whatever the address says;
+    // - the two unlock keys; the factory-area rule of a command word.
+    wire [15:0] i_lo  = reg_wdata[15:0];
+    wire [15:0] i_hi  = reg_wdata[31:16];
+    wire [7:0]  i_cmd = reg_wdata[7:0];
+    wire [3:0]  i_win;
+    assign i_win[0] = i_lo >= `TWH_CHARGE_MIN &&
+                      i_hi >= `TWH_SYNC_MIN && i_hi <= `TWH_SYNC_MAX;
+    assign i_win[1] = i_lo >= `TWH_PREAMBLE_MIN && i_lo <= `TWH_PREAMBLE_MAX &&
+                      i_hi >= `TWH_EXECUTE_MIN && i_hi <= `TWH_EXECUTE_MAX;
+    assign i_win[2] = i_lo >= `TWH_LISTEN_MIN && i_hi >= `TWH_TURNAROUND_MIN;
+    // the command is checked only when polling is switched on, so writing 0
+    // always stops polling
+    assign i_win[3] = !reg_wdata[31] || (i_cmd >= 8'h40 && i_cmd <= 8'h44) ||
+                                        (i_cmd >= 8'h46 && i_cmd <= 8'h49);
+    // erase (0x4A/4B) or write (0x80-0xFF) addressed to words 0x00-0x1F
+    wire [8:0]  i_erase_addr = {i_cmd[0], reg_wdata[15:8]};     // payload low byte
+    wire [8:0]  i_write_addr = {reg_wdata[23:22], i_cmd[6:0]};  // payload bits 15:14
+    wire        i_factory = ((i_cmd[7:1] == 7'b0100101) && (i_erase_addr < `TWH_FACTORY_END)) ||
+                            (i_cmd[7] && (i_write_addr < `TWH_FACTORY_END));
 
+    // The address is decoded on the way in too: one flag per register that
+    // a write or a read changes something in, and whether it is mapped.
     localparam [3:0] R_ID = 4'd0, R_VERSION = 4'd1, R_PARAMS = 4'd2, R_CTRL = 4'd3,
                      R_STATUS = 4'd4, R_LEVELS = 4'd5, R_ERRORS = 4'd6, R_IRQ_EN = 4'd7,
                      R_IRQ_STATUS = 4'd8, R_POLL_READY = 4'd9, R_CMD_PUSH = 4'd10,
                      R_RES_INFO = 4'd11, R_RES_POP = 4'd12, R_LAB_KEY = 4'd13,
                      R_FACTORY_KEY = 4'd14;
-    wire g_mapped = !is_ch && (g_reg != 4'd15);
-    wire mapped   = g_mapped || ch_exists;
+    wire       i_is_ch  = (reg_addr[8:6] != 3'd0);
+    wire [3:0] i_blk    = reg_addr[8:5] - 4'd2;
+    wire       i_ch_ok  = i_is_ch && (i_blk < CH_COUNT);
+    wire [3:0] i_g      = reg_addr[5:2];
+    wire       i_wr     = reg_req && reg_we && (reg_wstrb == 4'hF);
+    integer    i_n;
+    always @(posedge clk) begin
+        for (i_n = 0; i_n < CHANNELS; i_n = i_n + 1)
+            q_ch[i_n] <= (i_blk[2:0] == i_n[2:0]);
+    end
+
+    reg        q_req, q_we, q_full, q_key_lab, q_key_fact, q_factory;
+    reg        q_wr, q_rd, q_mapped, q_bad_ch;
+    reg [3:0]  q_win;
+    reg [3:0]  q_wt;             // a write of channel register 0-3 ...
+    reg [CHANNELS-1:0] q_ch;     // ... of this channel (one-hot)
+    reg        q_ctrl, q_errors, q_irq_en, q_poll_ready, q_push, q_pop, q_lab_key, q_fact_key;
+    reg [8:0]  q_addr;
+    reg [31:0] q_wdata;
+    always @(posedge clk) begin
+        q_req      <= !rst && reg_req;
+        q_wr       <= !rst && i_wr;
+        q_rd       <= !rst && reg_req && !reg_we;
+        q_we       <= reg_we;
+        q_full     <= (reg_wstrb == 4'hF);
+        q_addr     <= reg_addr;
+        q_wdata    <= reg_wdata;
+        q_win      <= i_win;
+        q_key_lab  <= (reg_wdata == `TWH_LAB_KEY);
+        q_key_fact <= (reg_wdata == `TWH_FACTORY_KEY);
+        q_factory  <= i_factory;
+        q_bad_ch   <= {1'b0, reg_wdata[26:24]} >= CH_COUNT;
+        q_mapped   <= i_is_ch ? (i_ch_ok && reg_addr[4:2] <= 3'd5) : (i_g != 4'd15);
+        q_wt       <= (!rst && i_wr && i_ch_ok && reg_addr[4:2] <= 3'd3) ?
+                      4'b0001 << reg_addr[3:2] : 4'b0000;
+        q_ctrl       <= !i_is_ch && i_g == R_CTRL;
+        q_errors     <= !i_is_ch && i_g == R_ERRORS;
+        q_irq_en     <= !i_is_ch && i_g == R_IRQ_EN;
+        q_poll_ready <= !i_is_ch && i_g == R_POLL_READY;
+        q_push       <= !i_is_ch && i_g == R_CMD_PUSH;
+        q_pop        <= !i_is_ch && i_g == R_RES_POP;
+        q_lab_key    <= !i_is_ch && i_g == R_LAB_KEY;
+        q_fact_key   <= !i_is_ch && i_g == R_FACTORY_KEY;
+    end
+
+    // ------------------------------------------------------------ decode
+    wire       is_ch     = (q_addr[8:6] != 3'd0);             // 0x40 and up
+    wire [3:0] ch_blk    = q_addr[8:5] - 4'd2;                // channel block
+    wire [2:0] ch_sel    = ch_blk[2:0];
+    wire [2:0] ch_reg    = q_addr[4:2];
+    // verilator lint_off UNUSEDSIGNAL
+    wire       ch_exists = is_ch && (ch_blk < CH_COUNT) && (ch_reg <= 3'd5);   // formal only (q_mapped, q_wt)
+    // verilator lint_on UNUSEDSIGNAL
+    wire [3:0] g_reg     = q_addr[5:2];
+    wire       full_word = q_full;
+    wire       wr        = q_wr;         // q_req && q_we && full_word
+    wire       rd        = q_rd;         // q_req && !q_we
+    wire       mapped    = q_mapped;     // a global register, or one of an existing channel
 
     // ------------------------------------------------------------ control registers
     reg        enable, lab, factory_armed;
@@ -111,21 +191,14 @@ module twh_core #(
     // entry: {blocked, tag[4:0], channel[2:0], payload[15:0], cmd[7:0]}
     // The factory-area verdict is taken on the way in, from the bus data, so
     // the FIFO's RAM output drives no comparator on its way to the slot.
-    wire [2:0]  push_ch   = reg_wdata[26:24];
-    wire        push_req  = wr && !is_ch && g_reg == R_CMD_PUSH;
+    wire        push_req  = wr && q_push;
     wire        cmd_full, cmd_empty;
     wire [LW-1:0] cmd_level;
     wire [32:0] cmd_head;
-    wire        push_bad_ch = {1'b0, push_ch} >= CH_COUNT;
+    wire        push_bad_ch = q_bad_ch;      // the pushed word names no channel
     wire        push_ok   = push_req && !push_bad_ch && !cmd_full;
 
-    // erase (0x4A/4B) or write (0x80-0xFF) addressed to words 0x00-0x1F
-    wire [7:0]  p_cmd     = reg_wdata[7:0];
-    wire [8:0]  p_erase_addr = {p_cmd[0], reg_wdata[15:8]};     // payload low byte
-    wire [8:0]  p_write_addr = {reg_wdata[23:22], p_cmd[6:0]};  // payload bits 15:14
-    wire        p_factory = ((p_cmd[7:1] == 7'b0100101) && (p_erase_addr < `TWH_FACTORY_END)) ||
-                            (p_cmd[7] && (p_write_addr < `TWH_FACTORY_END));
-    wire        p_blocked = p_factory && !factory_armed;
+    wire        p_blocked = q_factory && !factory_armed;
 
     wire [7:0]  h_cmd     = cmd_head[7:0];
     wire [15:0] h_payload = cmd_head[23:8];
@@ -148,13 +221,13 @@ module twh_core #(
     end
     // a flush written in the clock a command is dispatched cancels it too:
     // it was queued when the flush came (the slot's cancel misses it)
-    wire       flush_wr = wr && !is_ch && g_reg == R_CTRL && reg_wdata[1];
+    wire       flush_wr = wr && q_ctrl && q_wdata[1];
     wire [3:0] h_skip = (flushing || flush_wr) ? `TWH_ST_CANCELLED :
                         h_blocked              ? `TWH_ST_BLOCKED : 4'd0;
 
     twh_fifo #(.W(33), .DEPTH(FIFO_DEPTH)) u_cmd_fifo (
         .clk(clk), .rst(rst),
-        .push(push_ok), .din({p_blocked, reg_wdata}), .full(cmd_full),
+        .push(push_ok), .din({p_blocked, q_wdata}), .full(cmd_full),
         .pop(dispatch), .dout(cmd_head), .empty(cmd_empty), .level(cmd_level)
     );
 
@@ -172,7 +245,7 @@ module twh_core #(
     wire [7:0] c_res_valid8;
     wire res_push = c_res_valid8[scan] && !res_full;
     wire [3:0] push_status = c_res_status[scan*4 +: 4];
-    wire pop_req = rd && !is_ch && g_reg == R_RES_POP;
+    wire pop_req = rd && q_pop;
 
     twh_fifo #(.W(36), .DEPTH(FIFO_DEPTH)) u_res_fifo (
         .clk(clk), .rst(rst),
@@ -192,54 +265,23 @@ module twh_core #(
     wire [CHANNELS*32-1:0] c_t0, c_t1, c_t2, c_pc, c_pr, c_st;
     wire [CHANNELS-1:0] c_refused, c_sample, c_poll_err, c_busy;
 
-    // Channel register writes go through one register stage: the bus data
-    // then reaches the window checks and the registers' enables from
-    // flip-flops, not from the bus master's logic. A write takes effect on
-    // the second clock; both wrappers start requests at least two clocks
-    // apart, so the next access already sees it (and ERRORS: the channels'
-    // refusal is combinational from this stage).
-    // The value is checked here, once for all channels, and the verdict is
-    // staged with it.
-    reg        cw_q, cw_ok;
-    reg [2:0]  cw_ch, cw_reg;
-    reg [31:0] cw_data;
-    wire [15:0] w_lo = reg_wdata[15:0];
-    wire [15:0] w_hi = reg_wdata[31:16];
-    wire [7:0]  w_cmd = reg_wdata[7:0];
-    reg         w_ok;
-    always @(*) begin
-        case (ch_reg[1:0])
-            2'd0: w_ok = lab || (w_lo >= `TWH_CHARGE_MIN &&
-                                 w_hi >= `TWH_SYNC_MIN && w_hi <= `TWH_SYNC_MAX);
-            2'd1: w_ok = lab || (w_lo >= `TWH_PREAMBLE_MIN && w_lo <= `TWH_PREAMBLE_MAX &&
-                                 w_hi >= `TWH_EXECUTE_MIN && w_hi <= `TWH_EXECUTE_MAX);
-            2'd2: w_ok = lab || (w_lo >= `TWH_LISTEN_MIN && w_hi >= `TWH_TURNAROUND_MIN);
-            // POLL_CTRL: the command is checked only when polling is switched
-            // on, so writing 0 always stops polling; never the lab's say
-            default: w_ok = !reg_wdata[31] || (w_cmd >= 8'h40 && w_cmd <= 8'h44) ||
-                                              (w_cmd >= 8'h46 && w_cmd <= 8'h49);
-        endcase
-    end
-    always @(posedge clk) begin
-        cw_q    <= !rst && wr && ch_exists && ch_reg <= 3'd3;
-        cw_ok   <= w_ok;
-        cw_ch   <= ch_sel;
-        cw_reg  <= ch_reg;
-        cw_data <= reg_wdata;
-    end
+    // A channel register write starts from the request stage: its value's
+    // window verdict was taken on the way in; the lab unlock applies now, so
+    // a LAB_KEY write just ahead counts.
+    wire [3:0] cw_ok = {q_win[3], {3{lab}} | q_win[2:0]};
 
     genvar n;
     generate
         for (n = 0; n < CHANNELS; n = n + 1) begin : g_ch
-            wire sel = cw_q && (cw_ch == n);
+            wire sel = q_ch[n];
             twh_channel #(.CLK_HZ(CLK_HZ)) u_ch (
                 .clk(clk), .rst(rst), .ms_tick(ms_tick),
                 .enable(enable), .idle_charge(idle_charge[n]), .lab(lab),
-                .wdata(cw_data), .wdata_ok(cw_ok),
-                .wr_timing0(sel && cw_reg == 3'd0),
-                .wr_timing1(sel && cw_reg == 3'd1),
-                .wr_timing2(sel && cw_reg == 3'd2),
-                .wr_poll_ctrl(sel && cw_reg == 3'd3),
+                .wdata(q_wdata), .wdata_ok(cw_ok),
+                .wr_timing0(sel && q_wt[0]),
+                .wr_timing1(sel && q_wt[1]),
+                .wr_timing2(sel && q_wt[2]),
+                .wr_poll_ctrl(sel && q_wt[3]),
                 .timing0(c_t0[n*32 +: 32]), .timing1(c_t1[n*32 +: 32]),
                 .timing2(c_t2[n*32 +: 32]), .poll_ctrl(c_pc[n*32 +: 32]),
                 .poll_result(c_pr[n*32 +: 32]), .state(c_st[n*32 +: 32]),
@@ -276,9 +318,9 @@ module twh_core #(
         end
     endgenerate
 
-    // reg_addr[1:0]: accesses are whole 32-bit words
+    // q_addr[1:0]: accesses are whole 32-bit words
     // verilator lint_off UNUSEDSIGNAL
-    wire unused_addr = |reg_addr[1:0];
+    wire unused_addr = |q_addr[1:0];
     // verilator lint_on UNUSEDSIGNAL
 
     // ------------------------------------------------------------ register writes
@@ -307,31 +349,26 @@ module twh_core #(
             // A flush cancels exactly the commands queued when it is written;
             // commands pushed after it run normally.
             if (dispatch && flushing) flush_left <= flush_left - 1'b1;
-            if (wr && !is_ch) begin
-                case (g_reg)
-                    R_CTRL: begin
-                        enable      <= reg_wdata[0];
-                        if (reg_wdata[1]) flush_left <= cmd_level - {{(LW-1){1'b0}}, dispatch};
-                        idle_charge <= reg_wdata[15:8];
-                    end
-                    R_ERRORS: begin
-                        if (reg_wdata[0]) err_overflow    <= 1'b0;
-                        if (reg_wdata[1]) err_refused     <= 1'b0;
-                        if (reg_wdata[2]) err_blocked     <= 1'b0;
-                        if (reg_wdata[3]) err_bad_channel <= 1'b0;
-                        if (reg_wdata[4]) err_link        <= 1'b0;
-                    end
-                    R_IRQ_EN: begin
-                        ie_result     <= reg_wdata[0];
-                        ie_error      <= reg_wdata[1];
-                        ie_poll       <= reg_wdata[2];
-                        res_threshold <= reg_wdata[15:8];
-                    end
-                    R_LAB_KEY:     lab           <= (reg_wdata == `TWH_LAB_KEY);
-                    R_FACTORY_KEY: factory_armed <= (reg_wdata == `TWH_FACTORY_KEY);
-                    default: ;
-                endcase
+            if (wr && q_ctrl) begin
+                enable      <= q_wdata[0];
+                if (q_wdata[1]) flush_left <= cmd_level - {{(LW-1){1'b0}}, dispatch};
+                idle_charge <= q_wdata[15:8];
             end
+            if (wr && q_errors) begin
+                if (q_wdata[0]) err_overflow    <= 1'b0;
+                if (q_wdata[1]) err_refused     <= 1'b0;
+                if (q_wdata[2]) err_blocked     <= 1'b0;
+                if (q_wdata[3]) err_bad_channel <= 1'b0;
+                if (q_wdata[4]) err_link        <= 1'b0;
+            end
+            if (wr && q_irq_en) begin
+                ie_result     <= q_wdata[0];
+                ie_error      <= q_wdata[1];
+                ie_poll       <= q_wdata[2];
+                res_threshold <= q_wdata[15:8];
+            end
+            if (wr && q_lab_key)  lab           <= q_key_lab;
+            if (wr && q_fact_key) factory_armed <= q_key_fact;
             if (push_ok) factory_armed <= 1'b0;        // the next command only
             // hardware sets win over a clear in the same clock
             if (push_req && cmd_full && !push_bad_ch) err_overflow <= 1'b1;
@@ -339,7 +376,7 @@ module twh_core #(
             if (|c_refused)                           err_refused <= 1'b1;
             if (dispatch && h_skip == `TWH_ST_BLOCKED) err_blocked <= 1'b1;
             if (push_link_err || |c_poll_err)         err_link <= 1'b1;
-            poll_ready <= ((wr && !is_ch && g_reg == R_POLL_READY) ? (poll_ready & ~reg_wdata[7:0])
+            poll_ready <= ((wr && q_poll_ready) ? (poll_ready & ~q_wdata[7:0])
                                                                   : poll_ready) | sample8;
         end
     end
@@ -348,8 +385,12 @@ module twh_core #(
     wire [15:0] cmd_level16 = {{(16-LW){1'b0}}, cmd_level};
     wire [15:0] res_level16 = {{(16-LW){1'b0}}, res_level};
     wire [4:0]  errors = {err_link, err_bad_channel, err_blocked, err_refused, err_overflow};
-    wire [7:0]  thr = (res_threshold == 8'd0) ? 8'd1 : res_threshold;
-    wire        src_result = (res_level16 >= {8'd0, thr});
+    // registered: the comparator is off the read and irq paths (the source
+    // trails the FIFO level by one clock)
+    reg         src_result;
+    // (level >= max(1, threshold): a non-empty FIFO at the threshold)
+    always @(posedge clk) src_result <= !rst && (res_level != {LW{1'b0}}) &&
+                                        (res_level16 >= {8'd0, res_threshold});
     wire        src_error  = (errors != 5'd0);
     wire        src_poll   = (poll_ready != 8'd0);
     assign irq = (ie_result && src_result) || (ie_error && src_error) || (ie_poll && src_poll);
@@ -397,8 +438,8 @@ module twh_core #(
             reg_err   <= 1'b0;
             reg_rdata <= 32'd0;
         end else begin
-            reg_ack   <= reg_req;
-            reg_err   <= reg_req && (!mapped || (reg_we && !full_word) ||
+            reg_ack   <= q_req;
+            reg_err   <= q_req && (!mapped || (q_we && !full_word) ||
                                      (push_req && (push_bad_ch || cmd_full)));
             reg_rdata <= (rd && mapped) ? (is_ch ? c_rdata : g_rdata) : 32'd0;
         end
@@ -419,33 +460,49 @@ module twh_core #(
         if (f_h && reg_err) assert(reg_ack);
     end
     always @(posedge clk) begin
-        // every request is answered on the next clock, and nothing else is;
-        // a reset cancels the answer
-        if (f_h) assert(reg_ack == $past(reg_req && !rst));
+        // every request is carried out on the next clock and answered on
+        // the one after, and nothing else is; a reset cancels both
+        if (f_h) assert(q_req == $past(reg_req && !rst));
+        if (f_h) assert(reg_ack == $past(q_req && !rst));
     end
 
-    // The verdict staged with a channel write is the rule for the register
-    // written, with the lab unlock as it is while the write is applied (a
-    // request that could change it is the staged write itself). The windows
-    // are written out here rather than taken from twh_defs.vh.
+    // A channel register write is taken or refused by the rule for the
+    // register written, with the lab unlock as it is when the write is
+    // carried out, and the checks staged on the way in are those of the
+    // request's own data. The windows and keys are written out here rather
+    // than taken from twh_defs.vh.
     reg f_rs = 1'b0;          // a reset has been seen
     always @(posedge clk) if (rst) f_rs <= 1'b1;
-    wire [15:0] f_lo = cw_data[15:0], f_hi = cw_data[31:16];
-    wire [7:0]  f_c  = cw_data[7:0];
+    wire [15:0] f_lo = q_wdata[15:0], f_hi = q_wdata[31:16];
+    wire [7:0]  f_c  = q_wdata[7:0];
     reg         f_cw_ok;
     always @(*) begin
-        case (cw_reg)
+        case (ch_reg)
             3'd0: f_cw_ok = lab || (f_lo >= 16'd7000 && f_hi >= 16'd900 && f_hi <= 16'd1100);
             3'd1: f_cw_ok = lab || (f_lo >= 16'd1800 && f_lo <= 16'd2200 &&
                                     f_hi >= 16'd3500 && f_hi <= 16'd10000);
             3'd2: f_cw_ok = lab || (f_lo >= 16'd2000 && f_hi >= 16'd2000);
-            3'd3: f_cw_ok = !cw_data[31] || (f_c >= 8'h40 && f_c <= 8'h44) ||
+            3'd3: f_cw_ok = !q_wdata[31] || (f_c >= 8'h40 && f_c <= 8'h44) ||
                                             (f_c >= 8'h46 && f_c <= 8'h49);
             default: f_cw_ok = 1'b0;
         endcase
-        if (f_rs && cw_q) begin
-            assert(cw_reg <= 3'd3 && {1'b0, cw_ch} < CH_COUNT);
-            assert(cw_ok == f_cw_ok);
+        if (f_rs && f_h) begin
+            if (wr && ch_exists && ch_reg <= 3'd3) assert(cw_ok[ch_reg[1:0]] == f_cw_ok);
+            // the decode taken on the way in is that of the request's own
+            // address and data
+            assert(q_wr == (q_req && q_we && q_full) && q_rd == (q_req && !q_we));
+            assert(q_mapped == ((!is_ch && g_reg != 4'd15) || ch_exists));
+            assert(q_wt == ((wr && ch_exists && ch_reg <= 3'd3) ? 4'b0001 << ch_reg[1:0] : 4'b0000));
+            if (q_wt != 4'b0000) assert(q_ch == {{(CHANNELS-1){1'b0}}, 1'b1} << ch_sel);
+            assert(q_bad_ch == ({1'b0, q_wdata[26:24]} >= CH_COUNT));
+            assert(q_ctrl == (!is_ch && g_reg == R_CTRL) && q_errors == (!is_ch && g_reg == R_ERRORS) &&
+                   q_irq_en == (!is_ch && g_reg == R_IRQ_EN) &&
+                   q_poll_ready == (!is_ch && g_reg == R_POLL_READY) &&
+                   q_push == (!is_ch && g_reg == R_CMD_PUSH) && q_pop == (!is_ch && g_reg == R_RES_POP) &&
+                   q_lab_key == (!is_ch && g_reg == R_LAB_KEY) &&
+                   q_fact_key == (!is_ch && g_reg == R_FACTORY_KEY));
+            assert(q_key_lab  == (q_wdata == 32'h4C414221));
+            assert(q_key_fact == (q_wdata == 32'h46414354));
         end
     end
 
@@ -492,15 +549,17 @@ module twh_core #(
     // (0x4A/0x4B, address = code bit 0 : payload low byte) or write
     // (0x80-0xFF, address = payload bits 15:14 : code bits 6:0) of a word
     // below 0x20, unless FACTORY_KEY was armed since the last push.
-    wire [8:0] f_erase_at = {reg_wdata[0], reg_wdata[15:8]};
-    wire [8:0] f_write_at = {reg_wdata[23:22], reg_wdata[6:0]};
-    wire       f_factory  = ((reg_wdata[7:0] == 8'h4A || reg_wdata[7:0] == 8'h4B) && f_erase_at < 9'h020) ||
-                            (reg_wdata[7] && f_write_at < 9'h020);
+    wire [8:0] f_erase_at = {q_wdata[0], q_wdata[15:8]};
+    wire [8:0] f_write_at = {q_wdata[23:22], q_wdata[6:0]};
+    wire       f_factory  = ((q_wdata[7:0] == 8'h4A || q_wdata[7:0] == 8'h4B) && f_erase_at < 9'h020) ||
+                            (q_wdata[7] && f_write_at < 9'h020);
+    // the factory verdict staged on the way in is that rule's
+    always @(*) if (f_ok && f_h) assert(q_factory == f_factory);
     reg        f_armed;
     always @(posedge clk) begin
         if (rst)                                         f_armed <= 1'b0;
         else if (push_ok)                                f_armed <= 1'b0;
-        else if (wr && !is_ch && g_reg == R_FACTORY_KEY) f_armed <= (reg_wdata == `TWH_FACTORY_KEY);
+        else if (wr && !is_ch && g_reg == R_FACTORY_KEY) f_armed <= (q_wdata == `TWH_FACTORY_KEY);
     end
 
     // ------------------------------------------------ one command, followed
@@ -516,7 +575,7 @@ module twh_core #(
     reg          f_can, f_pf;
     reg          f_blk;        // it must come out BLOCKED (unless CANCELLED)
     wire [2:0]   f_ch    = f_word[26:24];
-    wire         f_flush = wr && !is_ch && g_reg == R_CTRL && reg_wdata[1];
+    wire         f_flush = wr && !is_ch && g_reg == R_CTRL && q_wdata[1];
     // a flush last clock hit it waiting in the slot (it is still there)
     wire         f_can_now = f_can || (f_st == 2'd2 && f_pf && slot_full8[f_ch]);
     wire [3:0]   f_skip  = f_can_now ? `TWH_ST_CANCELLED :
@@ -537,7 +596,7 @@ module twh_core #(
             case (f_st)
                 2'd0: if (push_ok && f_pick) begin
                           f_st   <= 2'd1;
-                          f_word <= {p_blocked, reg_wdata};
+                          f_word <= {p_blocked, q_wdata};
                           f_blk  <= f_factory && !f_armed;
                           f_pos  <= cmd_level - {{(LW-1){1'b0}}, dispatch};
                           f_can  <= 1'b0;

@@ -78,8 +78,13 @@ module twh_link #(
     wire [1:0]  rx_n;
     wire [23:0] rx_bytes;
     wire        rx_started, rx_frame_err;
+    // The receiver runs while the phase is listen, one clock late: its
+    // enable is a flip-flop (it resets the whole receiver), and the first
+    // carrier tick of the phase is a whole period away.
+    reg rx_en;
+    always @(posedge clk) rx_en <= !rst && (ph == `TWH_PH_LISTEN);
     twh_rx u_rx (
-        .clk(clk), .rst(rst), .en(ph == `TWH_PH_LISTEN), .tick(tick), .env(env),
+        .clk(clk), .rst(rst), .en(rx_en), .tick(tick), .env(env),
         .nbytes(rx_n), .bytes(rx_bytes), .started(rx_started),
         .frame_err(rx_frame_err)
     );
@@ -178,7 +183,16 @@ module twh_link #(
         else                       dur_next <= pick_v;
     end
 
-    wire last = (cnt == 16'd1);
+    // cnt moves only on a carrier tick and ticks are a period (at least 4
+    // clocks) apart, so its decodes are registered: at every tick they are
+    // those of the count as it stands, and the 16-bit compare is off the
+    // path into the phase, bit and frame registers.
+    reg last;          // cnt == 1: this period is the phase's last
+    reg bit_end;       // a command bit's last period, not the phase's
+    always @(posedge clk) begin
+        last    <= !rst && (cnt == 16'd1);
+        bit_end <= !rst && (ph == `TWH_PH_COMMAND) && (cnt[4:0] == 5'd1) && (cnt != 16'd1);
+    end
 
     // result of the listen phase, decided on its last tick
     reg [3:0] rx_status;
@@ -216,18 +230,20 @@ module twh_link #(
             if (m_res_valid && m_res_ready) m_res_valid <= 1'b0;
             rdy <= (ph == `TWH_PH_IDLE) && !pending && !m_res_valid && !accept;
 
-            if (accept && s_cmd_skip != 4'd0) begin
-                // blocked or cancelled upstream: the line is never touched
-                m_res_valid  <= 1'b1;
-                cmd_r        <= s_cmd_code;
-                tag_r        <= s_cmd_tag;
-                m_res_status <= s_cmd_skip;
-                m_res_data   <= 16'd0;
-            end else if (accept) begin
-                pending <= 1'b1;
-                cmd_r   <= s_cmd_code;
-                tag_r   <= s_cmd_tag;
-                pay_r   <= s_cmd_payload;
+            // The command is taken whole on every accept (the registers'
+            // enables wait for nothing else); a skipped one is answered at
+            // once and never touches the line.
+            if (accept) begin
+                cmd_r <= s_cmd_code;
+                tag_r <= s_cmd_tag;
+                pay_r <= s_cmd_payload;
+                if (s_cmd_skip != 4'd0) begin
+                    m_res_valid  <= 1'b1;
+                    m_res_status <= s_cmd_skip;
+                    m_res_data   <= 16'd0;
+                end else begin
+                    pending <= 1'b1;
+                end
             end
 
             if (tick) begin
@@ -248,7 +264,7 @@ module twh_link #(
                 end else if (!last) begin
                     cnt <= cnt - 1'b1;
                     // a new UART bit starts every 32 periods of the command
-                    if (ph == `TWH_PH_COMMAND && cnt[4:0] == 5'd1) begin
+                    if (bit_end) begin
                         if (bitn == 4'd10) begin
                             bitn  <= 4'd0;
                             byten <= byten + 1'b1;
@@ -452,6 +468,12 @@ module twh_link #(
         if (f_ok) begin
             // ---- sequencer: the state the counts below rely on
             assert(cnt != 16'd0);
+            // the registered decodes trail cnt by one clock only, and never
+            // at a tick
+            if (!tick_d && !rst) assert(last == (cnt == 16'd1) &&
+                                        bit_end == (ph == `TWH_PH_COMMAND && cnt[4:0] == 5'd1 &&
+                                                    cnt != 16'd1));
+            assert(!(tick && tick_d));
             assert(f_ticks < f_dur);
             assert(cnt + f_ticks == f_dur);
             if (ph == `TWH_PH_IDLE)

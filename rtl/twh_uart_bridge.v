@@ -76,6 +76,7 @@ module twh_uart_bridge #(
     reg [31:0]   dat;        // write data in, read data out
     reg [2:0]    left;       // answer bytes still to send after tx_data
     reg          bus_err, frame_err, dropped;
+    reg          chk;        // the request is complete: its sum is checked next
     reg [TW-1:0] idle;       // clocks since the request's last byte
 
     wire last_byte = is_write ? (idx == 3'd5) : (idx == 3'd1);
@@ -107,6 +108,7 @@ module twh_uart_bridge #(
             bus_err   <= 1'b0;
             frame_err <= 1'b0;
             dropped   <= 1'b0;
+            chk       <= 1'b0;
             idle      <= {TW{1'b0}};
             tx_data   <= 8'd0;
             tx_valid  <= 1'b0;
@@ -116,7 +118,25 @@ module twh_uart_bridge #(
                 dat <= {rx_data, dat[31:8]};
             case (state)
             S_RECV: begin
-                if (rx_ferr) begin
+                if (chk) begin
+                    // one clock after the last byte (the next is a whole
+                    // character away): the sum, now a register, must be FF
+                    chk <= 1'b0;
+                    if (sum != 8'hFF) begin
+                        frame_err <= 1'b1;
+                        fault     <= 1'b1;
+                        state     <= S_ANSWER;
+                    end else if (adr[7]) begin
+                        // beyond the core's 9-bit byte address: no access
+                        bus_err  <= 1'b1;
+                        fault    <= 1'b1;
+                        state    <= S_ANSWER;
+                    end else begin
+                        wb_stb_o <= 1'b1;
+                        activity <= 1'b1;
+                        state    <= S_BUS;
+                    end
+                end else if (rx_ferr) begin
                     // a broken character: whatever request it belonged to
                     // cannot be trusted
                     in_req  <= 1'b0;
@@ -149,20 +169,7 @@ module twh_uart_bridge #(
                         in_req    <= 1'b0;
                         bus_err   <= 1'b0;
                         frame_err <= 1'b0;
-                        if (sum + rx_data != 8'hFF) begin
-                            frame_err <= 1'b1;
-                            fault     <= 1'b1;
-                            state     <= S_ANSWER;
-                        end else if (adr[7]) begin
-                            // beyond the core's 9-bit byte address: no access
-                            bus_err  <= 1'b1;
-                            fault    <= 1'b1;
-                            state    <= S_ANSWER;
-                        end else begin
-                            wb_stb_o <= 1'b1;
-                            activity <= 1'b1;
-                            state    <= S_BUS;
-                        end
+                        chk       <= 1'b1;
                     end
                 end else if (in_req) begin
                     if (idle == C_TMO) begin

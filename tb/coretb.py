@@ -8,8 +8,8 @@ twh_axil around twh_core, up to three channels on simulated 2-wire lines).
   cocotbext-axi's AxiLiteMaster (BUS=1), both behind `access()`, which
   returns (data, error) and fails the test if the access is not answered
   within ACCESS_TIMEOUT_US of simulated time. A protocol check runs around
-  every access: Wishbone answers exactly one ack or err, one clock after the
-  strobe is taken, never both; AXI-Lite takes AW and W in the same clock and
+  every access: Wishbone answers exactly one ack or err, two clocks after the
+  strobe is taken (the core's request stage, then the access), never both; AXI-Lite takes AW and W in the same clock and
   answers each access exactly once.
 - Register helpers by name (tb/regmap.py reads rdl/twh_regs.rdl), command
   push / result pop helpers, and `finish()`, which closes and checks every
@@ -107,10 +107,10 @@ class WishboneDriver:
     async def _watch(self, box):
         """Samples the handshake at every rising edge of one cycle (values
         before the edge): a strobe taken at edge k must be answered (ack or
-        err, not both) at edge k+1, and nothing else may be answered."""
+        err, not both) at edge k+2, and nothing else may be answered."""
         d = self.dut
         clk = RisingEdge(d.clk)
-        taken_prev = False
+        waited = 0          # edges the strobe now up has been seen unanswered
         answers = 0
         seen_cyc = False
         while True:
@@ -122,13 +122,19 @@ class WishboneDriver:
             resp = ack or err
             if resp:
                 answers += 1
-                if not taken_prev:
-                    self.violations.append(f"{get_sim_time('ns')} ns: answer without a strobe taken one clock before")
-            elif taken_prev:
-                self.violations.append(f"{get_sim_time('ns')} ns: strobe taken one clock before got no answer")
-            taken_prev = bool(cyc and stb and not resp)
+                if waited != 2:
+                    self.violations.append(f"{get_sim_time('ns')} ns: answer to a strobe taken "
+                                           f"{waited} clocks before (expected 2)")
+                waited = 0
+            elif cyc and stb:
+                if waited == 2:
+                    self.violations.append(f"{get_sim_time('ns')} ns: strobe taken two clocks "
+                                           "before got no answer")
+                waited += 1
+            else:
+                waited = 0
             seen_cyc = seen_cyc or bool(cyc)
-            if seen_cyc and not cyc and not taken_prev:
+            if seen_cyc and not cyc and waited == 0:
                 break
         box.append(answers)
 

@@ -2,7 +2,8 @@
 // twh_axil) without the channels behind the register port; the real core is
 // too big for k-induction. It keeps nothing of the core but the register-port
 // contract stated at the top of rtl/twh_core.v: every request is answered
-// on the next clock with reg_ack, and a reset cancels the answer. Whether the
+// two clocks later with reg_ack (a request stage, then the access), and a
+// reset cancels the answer. Whether the
 // answer is an error, the read data, irq and the pins are left free (anyseq),
 // so the wrapper proofs hold whatever the core decides. That the real core
 // keeps this contract is a proof obligation of its own (phase 2).
@@ -32,7 +33,11 @@ module twh_core #(
     (* anyseq *) reg                f_irq;
     (* anyseq *) reg [CHANNELS-1:0] f_line_o, f_line_oe;
 
-    always @(posedge clk) reg_ack <= !rst && reg_req;
+    reg q_req;
+    always @(posedge clk) begin
+        q_req   <= !rst && reg_req;
+        reg_ack <= !rst && q_req;
+    end
 
     assign reg_err   = f_err;
     assign reg_rdata = f_rdata;

@@ -319,10 +319,10 @@ void Soak::tick() {
     d.eval();
 }
 
-// One Wishbone classic access: the core takes the strobe at one edge and
-// answers (ack or err, registered) until the next, where the master sees the
-// answer and ends the access (rtl/twh_wb.v); anything else is counted as a
-// bus error.
+// One Wishbone classic access: the core takes the strobe at one edge, carries
+// it out at the next and answers (ack or err, registered) until the one after,
+// where the master sees the answer and ends the access (rtl/twh_wb.v); an
+// answer at any other time, or none, is counted as a bus error.
 uint32_t Soak::access(uint32_t off, bool we, uint32_t v) {
     Vsoak_top &d = *top_;
     d.wb_adr_i = static_cast<uint16_t>(off);
@@ -332,6 +332,8 @@ uint32_t Soak::access(uint32_t off, bool we, uint32_t v) {
     d.wb_cyc_i = 1;
     d.wb_stb_i = 1;
     tick();
+    const bool early = d.wb_ack_o || d.wb_err_o;
+    tick();
     const bool ack = d.wb_ack_o, err = d.wb_err_o;
     const uint32_t data = d.wb_dat_o;
     tick();
@@ -339,11 +341,12 @@ uint32_t Soak::access(uint32_t off, bool we, uint32_t v) {
     d.wb_stb_i = 0;
     d.wb_we_i = 0;
     ++accesses_;
-    if (ack == err) {
+    if (ack == err || early) {
         ++bus_errors_;
         char buf[96];
         std::snprintf(buf, sizeof buf, "bus %s 0x%03X: %s", we ? "write" : "read", off,
-                      ack ? "ack and err" : "no answer one clock after the strobe");
+                      early ? "answered one clock after the strobe"
+                      : ack ? "ack and err" : "no answer two clocks after the strobe");
         mismatch(buf);
     } else if (err) {
         ++bus_errors_;
