@@ -126,15 +126,15 @@ module twh_core #(
     integer    i_n;
     always @(posedge clk) begin
         for (i_n = 0; i_n < CHANNELS; i_n = i_n + 1)
-            q_ch[i_n] <= (i_blk[2:0] == i_n[2:0]);
+            q_ch[i_n] <= !rst && i_wr && (i_blk[2:0] == i_n[2:0]);
     end
 
     reg        q_req, q_we, q_full, q_key_lab, q_key_fact, q_factory;
-    reg        q_wr, q_rd, q_mapped, q_bad_ch;
+    reg        q_wr, q_rd, q_mapped, q_bad_ch, q_rd_ok, q_is_ch;
     reg [3:0]  q_win;
-    reg [3:0]  q_wt;             // a write of channel register 0-3 ...
-    reg [CHANNELS-1:0] q_ch;     // ... of this channel (one-hot)
-    reg        q_ctrl, q_errors, q_irq_en, q_poll_ready, q_push, q_pop, q_lab_key, q_fact_key;
+    reg [3:0]  q_wt;             // channel register 0-3 of an existing channel addressed
+    reg [CHANNELS-1:0] q_ch;     // a write to this channel's block (one-hot)
+    reg        q_ctrl, q_flush, q_errors, q_irq_en, q_poll_ready, q_push, q_pop, q_lab_key, q_fact_key;
     reg [8:0]  q_addr;
     reg [31:0] q_wdata;
     always @(posedge clk) begin
@@ -150,17 +150,21 @@ module twh_core #(
         q_key_fact <= (reg_wdata == `TWH_FACTORY_KEY);
         q_factory  <= i_factory;
         q_bad_ch   <= {1'b0, reg_wdata[26:24]} >= CH_COUNT;
+        q_is_ch    <= i_is_ch;
+        q_rd_ok    <= !rst && reg_req && !reg_we &&
+                      (i_is_ch ? (i_ch_ok && reg_addr[4:2] <= 3'd5) : (i_g != 4'd15));
         q_mapped   <= i_is_ch ? (i_ch_ok && reg_addr[4:2] <= 3'd5) : (i_g != 4'd15);
-        q_wt       <= (!rst && i_wr && i_ch_ok && reg_addr[4:2] <= 3'd3) ?
-                      4'b0001 << reg_addr[3:2] : 4'b0000;
-        q_ctrl       <= !i_is_ch && i_g == R_CTRL;
-        q_errors     <= !i_is_ch && i_g == R_ERRORS;
-        q_irq_en     <= !i_is_ch && i_g == R_IRQ_EN;
-        q_poll_ready <= !i_is_ch && i_g == R_POLL_READY;
-        q_push       <= !i_is_ch && i_g == R_CMD_PUSH;
-        q_pop        <= !i_is_ch && i_g == R_RES_POP;
-        q_lab_key    <= !i_is_ch && i_g == R_LAB_KEY;
-        q_fact_key   <= !i_is_ch && i_g == R_FACTORY_KEY;
+        q_wt       <= (i_ch_ok && reg_addr[4:2] <= 3'd3) ? 4'b0001 << reg_addr[3:2] : 4'b0000;
+        // write (or, for RES_POP, read) strobes of the global registers
+        q_ctrl       <= !rst && i_wr && !i_is_ch && i_g == R_CTRL;
+        q_flush      <= !rst && i_wr && !i_is_ch && i_g == R_CTRL && reg_wdata[1];
+        q_errors     <= !rst && i_wr && !i_is_ch && i_g == R_ERRORS;
+        q_irq_en     <= !rst && i_wr && !i_is_ch && i_g == R_IRQ_EN;
+        q_poll_ready <= !rst && i_wr && !i_is_ch && i_g == R_POLL_READY;
+        q_push       <= !rst && i_wr && !i_is_ch && i_g == R_CMD_PUSH;
+        q_pop        <= !rst && reg_req && !reg_we && !i_is_ch && i_g == R_RES_POP;
+        q_lab_key    <= !rst && i_wr && !i_is_ch && i_g == R_LAB_KEY;
+        q_fact_key   <= !rst && i_wr && !i_is_ch && i_g == R_FACTORY_KEY;
     end
 
     // ------------------------------------------------------------ decode
@@ -173,14 +177,17 @@ module twh_core #(
     // verilator lint_on UNUSEDSIGNAL
     wire [3:0] g_reg     = q_addr[5:2];
     wire       full_word = q_full;
-    wire       wr        = q_wr;         // q_req && q_we && full_word
-    wire       rd        = q_rd;         // q_req && !q_we
+    // verilator lint_off UNUSEDSIGNAL
+    wire       wr        = q_wr;         // q_req && q_we && full_word (formal only: the
+    wire       rd        = q_rd;         // q_req && !q_we              strobes include them)
+    // verilator lint_on UNUSEDSIGNAL
     wire       mapped    = q_mapped;     // a global register, or one of an existing channel
 
     // ------------------------------------------------------------ control registers
     reg        enable, lab, factory_armed;
     reg [LW-1:0] flush_left;    // queued commands a flush still has to cancel
-    wire       flushing = (flush_left != {LW{1'b0}});
+    reg        flushing;        // flush_left != 0, kept as a flag: it steers dispatch
+    wire [LW-1:0] flush_new = cmd_level - {{(LW-1){1'b0}}, dispatch};   // what a flush now cancels
     reg [7:0]  idle_charge;
     reg        ie_result, ie_error, ie_poll;
     reg [7:0]  res_threshold;
@@ -191,7 +198,7 @@ module twh_core #(
     // entry: {blocked, tag[4:0], channel[2:0], payload[15:0], cmd[7:0]}
     // The factory-area verdict is taken on the way in, from the bus data, so
     // the FIFO's RAM output drives no comparator on its way to the slot.
-    wire        push_req  = wr && q_push;
+    wire        push_req  = q_push;
     wire        cmd_full, cmd_empty;
     wire [LW-1:0] cmd_level;
     wire [32:0] cmd_head;
@@ -221,7 +228,7 @@ module twh_core #(
     end
     // a flush written in the clock a command is dispatched cancels it too:
     // it was queued when the flush came (the slot's cancel misses it)
-    wire       flush_wr = wr && q_ctrl && q_wdata[1];
+    wire       flush_wr = q_flush;
     wire [3:0] h_skip = (flushing || flush_wr) ? `TWH_ST_CANCELLED :
                         h_blocked              ? `TWH_ST_BLOCKED : 4'd0;
 
@@ -245,7 +252,7 @@ module twh_core #(
     wire [7:0] c_res_valid8;
     wire res_push = c_res_valid8[scan] && !res_full;
     wire [3:0] push_status = c_res_status[scan*4 +: 4];
-    wire pop_req = rd && q_pop;
+    wire pop_req = q_pop;
 
     twh_fifo #(.W(36), .DEPTH(FIFO_DEPTH)) u_res_fifo (
         .clk(clk), .rst(rst),
@@ -332,6 +339,7 @@ module twh_core #(
         if (rst) begin
             enable          <= 1'b1;
             flush_left      <= {LW{1'b0}};
+            flushing        <= 1'b0;
             lab             <= 1'b0;
             factory_armed   <= 1'b0;
             idle_charge     <= 8'd0;
@@ -348,35 +356,41 @@ module twh_core #(
         end else begin
             // A flush cancels exactly the commands queued when it is written;
             // commands pushed after it run normally.
-            if (dispatch && flushing) flush_left <= flush_left - 1'b1;
-            if (wr && q_ctrl) begin
+            if (dispatch && flushing) begin
+                flush_left <= flush_left - 1'b1;
+                flushing   <= (flush_left != {{(LW-1){1'b0}}, 1'b1});
+            end
+            if (q_ctrl) begin
                 enable      <= q_wdata[0];
-                if (q_wdata[1]) flush_left <= cmd_level - {{(LW-1){1'b0}}, dispatch};
+                if (q_wdata[1]) begin
+                    flush_left <= flush_new;
+                    flushing   <= (flush_new != {LW{1'b0}});
+                end
                 idle_charge <= q_wdata[15:8];
             end
-            if (wr && q_errors) begin
+            if (q_errors) begin
                 if (q_wdata[0]) err_overflow    <= 1'b0;
                 if (q_wdata[1]) err_refused     <= 1'b0;
                 if (q_wdata[2]) err_blocked     <= 1'b0;
                 if (q_wdata[3]) err_bad_channel <= 1'b0;
                 if (q_wdata[4]) err_link        <= 1'b0;
             end
-            if (wr && q_irq_en) begin
+            if (q_irq_en) begin
                 ie_result     <= q_wdata[0];
                 ie_error      <= q_wdata[1];
                 ie_poll       <= q_wdata[2];
                 res_threshold <= q_wdata[15:8];
             end
-            if (wr && q_lab_key)  lab           <= q_key_lab;
-            if (wr && q_fact_key) factory_armed <= q_key_fact;
+            if (q_lab_key)  lab           <= q_key_lab;
+            if (q_fact_key) factory_armed <= q_key_fact;
             if (push_ok) factory_armed <= 1'b0;        // the next command only
             // hardware sets win over a clear in the same clock
             if (push_req && cmd_full && !push_bad_ch) err_overflow <= 1'b1;
             if (push_req && push_bad_ch)              err_bad_channel <= 1'b1;
             if (|c_refused)                           err_refused <= 1'b1;
-            if (dispatch && h_skip == `TWH_ST_BLOCKED) err_blocked <= 1'b1;
+            if (dispatch && h_blocked && !flushing && !flush_wr) err_blocked <= 1'b1;   // h_skip BLOCKED
             if (push_link_err || |c_poll_err)         err_link <= 1'b1;
-            poll_ready <= ((wr && q_poll_ready) ? (poll_ready & ~q_wdata[7:0])
+            poll_ready <= ((q_poll_ready) ? (poll_ready & ~q_wdata[7:0])
                                                                   : poll_ready) | sample8;
         end
     end
@@ -395,6 +409,9 @@ module twh_core #(
     wire        src_poll   = (poll_ready != 8'd0);
     assign irq = (ie_result && src_result) || (ie_error && src_error) || (ie_poll && src_poll);
 
+    // an empty FIFO's output register holds stale data: show zeros (masked
+    // before the multiplexer, not after it)
+    wire [35:0] res_shown = res_head & {36{!res_empty}};
     reg [31:0] g_rdata;
     always @(*) begin
         case (g_reg)
@@ -410,14 +427,12 @@ module twh_core #(
             R_IRQ_EN:     g_rdata = {16'd0, res_threshold, 5'd0, ie_poll, ie_error, ie_result};
             R_IRQ_STATUS: g_rdata = {29'd0, src_poll, src_error, src_result};
             R_POLL_READY: g_rdata = {24'd0, poll_ready};
-            R_RES_INFO:   g_rdata = {11'd0, res_head[35:31], !res_empty, res_head[30:28],
-                                     res_head[27:24], res_head[23:16]};
-            R_RES_POP:    g_rdata = {3'd0, res_head[35:31], !res_empty, res_head[30:28],
-                                     res_head[27:24], res_head[15:0]};
+            R_RES_INFO:   g_rdata = {11'd0, res_shown[35:31], !res_empty, res_shown[30:28],
+                                     res_shown[27:24], res_shown[23:16]};
+            R_RES_POP:    g_rdata = {3'd0, res_shown[35:31], !res_empty, res_shown[30:28],
+                                     res_shown[27:24], res_shown[15:0]};
             default:      g_rdata = 32'd0;     // write-only and unmapped
         endcase
-        // an empty FIFO's output register holds stale data: show zeros
-        if ((g_reg == R_RES_INFO || g_reg == R_RES_POP) && res_empty) g_rdata = 32'd0;
     end
 
     reg [31:0] c_rdata;
@@ -441,7 +456,7 @@ module twh_core #(
             reg_ack   <= q_req;
             reg_err   <= q_req && (!mapped || (q_we && !full_word) ||
                                      (push_req && (push_bad_ch || cmd_full)));
-            reg_rdata <= (rd && mapped) ? (is_ch ? c_rdata : g_rdata) : 32'd0;
+            reg_rdata <= q_rd_ok ? (q_is_ch ? c_rdata : g_rdata) : 32'd0;
         end
     end
 
@@ -491,16 +506,23 @@ module twh_core #(
             // the decode taken on the way in is that of the request's own
             // address and data
             assert(q_wr == (q_req && q_we && q_full) && q_rd == (q_req && !q_we));
+            assert(q_rd_ok == (rd && mapped) && q_is_ch == is_ch);
             assert(q_mapped == ((!is_ch && g_reg != 4'd15) || ch_exists));
-            assert(q_wt == ((wr && ch_exists && ch_reg <= 3'd3) ? 4'b0001 << ch_reg[1:0] : 4'b0000));
-            if (q_wt != 4'b0000) assert(q_ch == {{(CHANNELS-1){1'b0}}, 1'b1} << ch_sel);
+            assert(q_wt == ((ch_exists && ch_reg <= 3'd3) ? 4'b0001 << ch_reg[1:0] : 4'b0000));
+            if (q_wt != 4'b0000)
+                assert(q_ch == (wr ? {{(CHANNELS-1){1'b0}}, 1'b1} << ch_sel : {CHANNELS{1'b0}}));
+            // the flag is the count's
+            assert(flushing == (flush_left != {LW{1'b0}}));
             assert(q_bad_ch == ({1'b0, q_wdata[26:24]} >= CH_COUNT));
-            assert(q_ctrl == (!is_ch && g_reg == R_CTRL) && q_errors == (!is_ch && g_reg == R_ERRORS) &&
-                   q_irq_en == (!is_ch && g_reg == R_IRQ_EN) &&
-                   q_poll_ready == (!is_ch && g_reg == R_POLL_READY) &&
-                   q_push == (!is_ch && g_reg == R_CMD_PUSH) && q_pop == (!is_ch && g_reg == R_RES_POP) &&
-                   q_lab_key == (!is_ch && g_reg == R_LAB_KEY) &&
-                   q_fact_key == (!is_ch && g_reg == R_FACTORY_KEY));
+            assert(q_ctrl == (wr && !is_ch && g_reg == R_CTRL) &&
+                   q_flush == (wr && !is_ch && g_reg == R_CTRL && q_wdata[1]) &&
+                   q_errors == (wr && !is_ch && g_reg == R_ERRORS) &&
+                   q_irq_en == (wr && !is_ch && g_reg == R_IRQ_EN) &&
+                   q_poll_ready == (wr && !is_ch && g_reg == R_POLL_READY) &&
+                   q_push == (wr && !is_ch && g_reg == R_CMD_PUSH) &&
+                   q_pop == (rd && !is_ch && g_reg == R_RES_POP) &&
+                   q_lab_key == (wr && !is_ch && g_reg == R_LAB_KEY) &&
+                   q_fact_key == (wr && !is_ch && g_reg == R_FACTORY_KEY));
             assert(q_key_lab  == (q_wdata == 32'h4C414221));
             assert(q_key_fact == (q_wdata == 32'h46414354));
         end
@@ -646,6 +668,7 @@ module twh_core #(
                 if (c_res_valid[f_k]) assert(c_busy[f_k]);     // stand-in state
             // a flush counts down only the commands queued before it
             assert(flush_left <= cmd_level);
+            assert(flushing == (flush_left != {LW{1'b0}}));
 
             // ---- none lost, none doubled: every accepted push is queued,
             // in a slot, in an engine, or was put as one result into the
