@@ -294,8 +294,10 @@ module twh_channel #(
                     (wr_timing2 && !f_take2) || (wr_poll_ctrl && !f_takep);
     // the core's verdict is right for the register written (proven on the
     // core: twh_core's f_cw_ok)
-    wire f_ok_right = (!wr_timing0 || ok0 == f_take0) && (!wr_timing1 || ok1 == f_take1) &&
-                      (!wr_timing2 || ok2 == f_take2) && (!wr_poll_ctrl || ok_poll == f_takep);
+    wire f_ok_right = (!wr_timing0 || wdata_ok[0] == f_take0) &&
+                      (!wr_timing1 || wdata_ok[1] == f_take1) &&
+                      (!wr_timing2 || wdata_ok[2] == f_take2) &&
+                      (!wr_poll_ctrl || wdata_ok[3] == f_takep);
     always @(*) begin
         if (f_ok && !rst) begin
 `ifdef TWH_F_CHANNEL
