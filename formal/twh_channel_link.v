@@ -35,6 +35,8 @@ module twh_link #(
     input  wire [15:0]      cfg_turnaround_us,
     input  wire             cfg_idle_charge,
     input  wire             cfg_unlock,
+    input  wire [5:0]       cfg_below,
+    input  wire [5:0]       cfg_above,
     input  wire             s_cmd_valid,
     output wire             s_cmd_ready,
     input  wire [7:0]       s_cmd_code,
@@ -98,7 +100,7 @@ module twh_link #(
 
     // verilator lint_off UNUSEDSIGNAL
     wire unused = &{1'b0, cfg_charge_us, cfg_sync_us, cfg_preamble_us, cfg_execute_us,
-                    cfg_listen_us, cfg_turnaround_us, cfg_idle_charge, cfg_unlock,
+                    cfg_listen_us, cfg_turnaround_us, cfg_idle_charge, cfg_unlock, cfg_below, cfg_above,
                     s_cmd_payload, line_i};
     // verilator lint_on UNUSEDSIGNAL
 endmodule

@@ -32,6 +32,7 @@ module twh_channel #(
     input  wire        lab,
     input  wire [31:0] wdata,
     input  wire [3:0]  wdata_ok,
+    input  wire [3:0]  wdata_cmp,
     input  wire        wr_timing0,
     input  wire        wr_timing1,
     input  wire        wr_timing2,
@@ -130,7 +131,7 @@ module twh_channel #(
     assign line_oe     = f_line_oe;
 
     // verilator lint_off UNUSEDSIGNAL
-    wire unused = &{1'b0, ms_tick, enable, idle_charge, lab, wdata, wdata_ok, wr_timing0, wr_timing1,
+    wire unused = &{1'b0, ms_tick, enable, idle_charge, lab, wdata, wdata_ok, wdata_cmp, wr_timing0, wr_timing1,
                     wr_timing2, wr_poll_ctrl, slot_payload_i, line_i};
     // verilator lint_on UNUSEDSIGNAL
 endmodule

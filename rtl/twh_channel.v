@@ -5,7 +5,9 @@
 // - Timing writes are refused as a whole when a field lies outside the spec
 //   window (unless the lab unlock is on): the register keeps its value and
 //   `value_refused` is raised. The verdict is the core's (`wdata_ok`). The
-//   engine clamps as well, as a last defence.
+//   engine clamps as well, as a last defence (a value taken under the lab
+//   unlock runs clamped once it is off): each field keeps the core's window
+//   flags (`wdata_cmp`) beside it, and the engine clamps by them.
 // - A poll write that switches polling on is refused (`wdata_ok`, the
 //   core's verdict) unless the command is read-only (0x40-0x44,
 //   0x46-0x49): a poller must never erase or write a sensor's flash.
@@ -29,6 +31,8 @@ module twh_channel #(
     input  wire [31:0] wdata,
     input  wire [3:0]  wdata_ok,       // per register TIMING0-2, POLL_CTRL: wdata is in its
                                        // window (or lab); POLL_CTRL: off or read-only
+    input  wire [3:0]  wdata_cmp,      // the timing register written: {hi above, hi below,
+                                       // lo above, lo below} its windows (twh_window)
     input  wire        wr_timing0,
     input  wire        wr_timing1,
     input  wire        wr_timing2,
@@ -65,6 +69,9 @@ module twh_channel #(
 );
     // ------------------------------------------------------------ registers
     reg [15:0] t_charge, t_sync, t_preamble, t_execute, t_listen, t_turnaround;
+    // per field, in the engine's order (charge, sync, preamble, execute,
+    // listen, turnaround): below its window's minimum, above its maximum
+    reg [5:0]  t_below, t_above;
     reg [7:0]  poll_cmd, poll_payload;
     reg [14:0] poll_interval;
     reg        poll_en;
@@ -91,14 +98,25 @@ module twh_channel #(
             t_execute     <= `TWH_EXECUTE_DEF;
             t_listen      <= `TWH_LISTEN_DEF;
             t_turnaround  <= `TWH_TURNAROUND_DEF;
+            t_below       <= 6'd0;             // the defaults lie in their windows
+            t_above       <= 6'd0;
             poll_cmd      <= 8'h44;
             poll_payload  <= 8'hAA;
             poll_interval <= 15'd1000;
             poll_en       <= 1'b0;
         end else begin
-            if (wr_timing0 && ok0) begin t_charge   <= wdata[15:0]; t_sync       <= wdata[31:16]; end
-            if (wr_timing1 && ok1) begin t_preamble <= wdata[15:0]; t_execute    <= wdata[31:16]; end
-            if (wr_timing2 && ok2) begin t_listen   <= wdata[15:0]; t_turnaround <= wdata[31:16]; end
+            if (wr_timing0 && ok0) begin
+                t_charge   <= wdata[15:0]; t_sync       <= wdata[31:16];
+                {t_above[1], t_below[1], t_above[0], t_below[0]} <= wdata_cmp;
+            end
+            if (wr_timing1 && ok1) begin
+                t_preamble <= wdata[15:0]; t_execute    <= wdata[31:16];
+                {t_above[3], t_below[3], t_above[2], t_below[2]} <= wdata_cmp;
+            end
+            if (wr_timing2 && ok2) begin
+                t_listen   <= wdata[15:0]; t_turnaround <= wdata[31:16];
+                {t_above[5], t_below[5], t_above[4], t_below[4]} <= wdata_cmp;
+            end
             if (wr_poll_ctrl && ok_poll) begin
                 poll_cmd      <= wdata[7:0];
                 poll_payload  <= wdata[15:8];
@@ -192,6 +210,7 @@ module twh_channel #(
         .cfg_charge_us(t_charge), .cfg_sync_us(t_sync),
         .cfg_preamble_us(t_preamble), .cfg_execute_us(t_execute),
         .cfg_listen_us(t_listen), .cfg_turnaround_us(t_turnaround),
+        .cfg_below(t_below), .cfg_above(t_above),
         .cfg_idle_charge(idle_charge), .cfg_unlock(lab),
         .s_cmd_valid(issue_q), .s_cmd_ready(eng_ready),
         .s_cmd_code(use_poll_q ? poll_cmd : slot_cmd),
@@ -294,9 +313,17 @@ module twh_channel #(
                     (wr_timing2 && !f_take2) || (wr_poll_ctrl && !f_takep);
     // the core's verdict is right for the register written (proven on the
     // core: twh_core's f_cw_ok)
-    wire f_ok_right = (!wr_timing0 || wdata_ok[0] == f_take0) &&
-                      (!wr_timing1 || wdata_ok[1] == f_take1) &&
-                      (!wr_timing2 || wdata_ok[2] == f_take2) &&
+    // and so are its window flags (twh_core's f_cmp)
+    function [1:0] f_fl;          // {above, below} the window lo..hi
+        input [15:0] v, lo, hi;
+        f_fl = {v > hi, v < lo};
+    endfunction
+    wire [3:0] f_cmp0 = {f_fl(wdata[31:16], 16'd900, 16'd1100),  f_fl(wdata[15:0], 16'd7000, 16'hFFFF)};
+    wire [3:0] f_cmp1 = {f_fl(wdata[31:16], 16'd3500, 16'd10000), f_fl(wdata[15:0], 16'd1800, 16'd2200)};
+    wire [3:0] f_cmp2 = {f_fl(wdata[31:16], 16'd2000, 16'hFFFF),  f_fl(wdata[15:0], 16'd2000, 16'hFFFF)};
+    wire f_ok_right = (!wr_timing0 || (wdata_ok[0] == f_take0 && wdata_cmp == f_cmp0)) &&
+                      (!wr_timing1 || (wdata_ok[1] == f_take1 && wdata_cmp == f_cmp1)) &&
+                      (!wr_timing2 || (wdata_ok[2] == f_take2 && wdata_cmp == f_cmp2)) &&
                       (!wr_poll_ctrl || wdata_ok[3] == f_takep);
     always @(*) begin
         if (f_ok && !rst) begin
@@ -332,6 +359,14 @@ module twh_channel #(
             if (!f_lab0) assert(f_win0(timing0));
             if (!f_lab1) assert(f_win1(timing1));
             if (!f_lab2) assert(f_win2(timing2));
+            // each field's flags are those of its value (the engine's
+            // clamp relies on them)
+            assert({t_above[1], t_below[1], t_above[0], t_below[0]} ==
+                   {f_fl(t_sync, 16'd900, 16'd1100), f_fl(t_charge, 16'd7000, 16'hFFFF)});
+            assert({t_above[3], t_below[3], t_above[2], t_below[2]} ==
+                   {f_fl(t_execute, 16'd3500, 16'd10000), f_fl(t_preamble, 16'd1800, 16'd2200)});
+            assert({t_above[5], t_below[5], t_above[4], t_below[4]} ==
+                   {f_fl(t_turnaround, 16'd2000, 16'hFFFF), f_fl(t_listen, 16'd2000, 16'hFFFF)});
             // a refused write is flagged in its own clock (the verdict is
             // the core's, assumed right outside reset)
             if (!rst) assert(value_refused == f_refuse);

@@ -88,23 +88,23 @@ module twh_core #(
     // Checks taken on the way in, from the bus data (none depends on state
     // that the request ahead could change, except the lab unlock, which is
     // applied after the stage):
-    // - i_win[k]: the value lies in the spec window of channel register k
-    //   (TIMING0-2), or (k = 3, POLL_CTRL) switches polling off or names a
-    //   read-only command; taken for all four, whatever the address says;
+    // - i_cmp: where the two fields of a timing value lie against the spec
+    //   windows of the channel register addressed (TIMING0-2), one shared
+    //   checker whose constants the address picks; the channel keeps the
+    //   flags with the value and its engine clamps by them;
+    // - i_win_p: a POLL_CTRL value switches polling off or names a
+    //   read-only command;
     // - the two unlock keys; the factory-area rule of a command word.
-    wire [15:0] i_lo  = reg_wdata[15:0];
-    wire [15:0] i_hi  = reg_wdata[31:16];
     wire [7:0]  i_cmd = reg_wdata[7:0];
-    wire [3:0]  i_win;
-    assign i_win[0] = i_lo >= `TWH_CHARGE_MIN &&
-                      i_hi >= `TWH_SYNC_MIN && i_hi <= `TWH_SYNC_MAX;
-    assign i_win[1] = i_lo >= `TWH_PREAMBLE_MIN && i_lo <= `TWH_PREAMBLE_MAX &&
-                      i_hi >= `TWH_EXECUTE_MIN && i_hi <= `TWH_EXECUTE_MAX;
-    assign i_win[2] = i_lo >= `TWH_LISTEN_MIN && i_hi >= `TWH_TURNAROUND_MIN;
+    wire [3:0]  i_cmp;           // {hi above, hi below, lo above, lo below}
+    twh_window u_window (
+        .sel(reg_addr[3:2]), .value(reg_wdata),
+        .lo_below(i_cmp[0]), .lo_above(i_cmp[1]), .hi_below(i_cmp[2]), .hi_above(i_cmp[3])
+    );
     // the command is checked only when polling is switched on, so writing 0
     // always stops polling
-    assign i_win[3] = !reg_wdata[31] || (i_cmd >= 8'h40 && i_cmd <= 8'h44) ||
-                                        (i_cmd >= 8'h46 && i_cmd <= 8'h49);
+    wire        i_win_p = !reg_wdata[31] || (i_cmd >= 8'h40 && i_cmd <= 8'h44) ||
+                                            (i_cmd >= 8'h46 && i_cmd <= 8'h49);
     // erase (0x4A/4B) or write (0x80-0xFF) addressed to words 0x00-0x1F
     wire [8:0]  i_erase_addr = {i_cmd[0], reg_wdata[15:8]};     // payload low byte
     wire [8:0]  i_write_addr = {reg_wdata[23:22], i_cmd[6:0]};  // payload bits 15:14
@@ -131,7 +131,8 @@ module twh_core #(
 
     reg        q_req, q_we, q_full, q_key_lab, q_key_fact, q_factory;
     reg        q_wr, q_rd, q_mapped, q_bad_ch, q_rd_ok, q_is_ch;
-    reg [3:0]  q_win;
+    reg [3:0]  q_cmp;            // i_cmp of the request
+    reg        q_win_p;          // i_win_p of the request
     reg [3:0]  q_wt;             // channel register 0-3 of an existing channel addressed
     reg [CHANNELS-1:0] q_ch;     // a write to this channel's block (one-hot)
     reg        q_ctrl, q_flush, q_errors, q_irq_en, q_poll_ready, q_push, q_pop, q_lab_key, q_fact_key;
@@ -145,7 +146,8 @@ module twh_core #(
         q_full     <= (reg_wstrb == 4'hF);
         q_addr     <= reg_addr;
         q_wdata    <= reg_wdata;
-        q_win      <= i_win;
+        q_cmp      <= i_cmp;
+        q_win_p    <= i_win_p;
         q_key_lab  <= (reg_wdata == `TWH_LAB_KEY);
         q_key_fact <= (reg_wdata == `TWH_FACTORY_KEY);
         q_factory  <= i_factory;
@@ -273,9 +275,11 @@ module twh_core #(
     wire [CHANNELS-1:0] c_refused, c_sample, c_poll_err, c_busy;
 
     // A channel register write starts from the request stage: its value's
-    // window verdict was taken on the way in; the lab unlock applies now, so
-    // a LAB_KEY write just ahead counts.
-    wire [3:0] cw_ok = {q_win[3], {3{lab}} | q_win[2:0]};
+    // window flags were taken on the way in, for the register addressed (the
+    // only one whose strobe is raised); the lab unlock applies now, so a
+    // LAB_KEY write just ahead counts.
+    wire       cw_in = (q_cmp == 4'd0);
+    wire [3:0] cw_ok = {q_win_p, {3{lab || cw_in}}};
 
     genvar n;
     generate
@@ -284,7 +288,7 @@ module twh_core #(
             twh_channel #(.CLK_HZ(CLK_HZ)) u_ch (
                 .clk(clk), .rst(rst), .ms_tick(ms_tick),
                 .enable(enable), .idle_charge(idle_charge[n]), .lab(lab),
-                .wdata(q_wdata), .wdata_ok(cw_ok),
+                .wdata(q_wdata), .wdata_ok(cw_ok), .wdata_cmp(q_cmp),
                 .wr_timing0(sel && q_wt[0]),
                 .wr_timing1(sel && q_wt[1]),
                 .wr_timing2(sel && q_wt[2]),
@@ -491,6 +495,7 @@ module twh_core #(
     wire [15:0] f_lo = q_wdata[15:0], f_hi = q_wdata[31:16];
     wire [7:0]  f_c  = q_wdata[7:0];
     reg         f_cw_ok;
+    reg  [3:0]  f_cmp;
     always @(*) begin
         case (ch_reg)
             3'd0: f_cw_ok = lab || (f_lo >= 16'd7000 && f_hi >= 16'd900 && f_hi <= 16'd1100);
@@ -501,8 +506,16 @@ module twh_core #(
                                             (f_c >= 8'h46 && f_c <= 8'h49);
             default: f_cw_ok = 1'b0;
         endcase
+        // the window flags the channel keeps beside the value:
+        // {hi above, hi below, lo above, lo below}
+        case (ch_reg)
+            3'd0:    f_cmp = {f_hi > 16'd1100, f_hi < 16'd900, 1'b0, f_lo < 16'd7000};
+            3'd1:    f_cmp = {f_hi > 16'd10000, f_hi < 16'd3500, f_lo > 16'd2200, f_lo < 16'd1800};
+            default: f_cmp = {1'b0, f_hi < 16'd2000, 1'b0, f_lo < 16'd2000};
+        endcase
         if (f_rs && f_h) begin
             if (wr && ch_exists && ch_reg <= 3'd3) assert(cw_ok[ch_reg[1:0]] == f_cw_ok);
+            if (wr && ch_exists && ch_reg <= 3'd2) assert(q_cmp == f_cmp);
             // the decode taken on the way in is that of the request's own
             // address and data
             assert(q_wr == (q_req && q_we && q_full) && q_rd == (q_req && !q_we));
@@ -537,6 +550,8 @@ module twh_core #(
     localparam [LW-1:0] F_DEPTH = FIFO_DEPTH[LW-1:0];
     (* keep *) wire [F_AW:0] f_cf_wr, f_cf_rd;     // u_cmd_fifo.wr_ptr, rd_ptr
     (* keep *) wire          f_cf_ov;              // u_cmd_fifo.out_valid
+    (* keep *) wire          f_cf_me;              // u_cmd_fifo.mem_empty
+    (* keep *) wire [F_AW:0] f_cf_rp1;             // u_cmd_fifo.rd_ptr_p1
     wire [33*FIFO_DEPTH-1:0] f_cf_mem;
     genvar f_i;
     generate
@@ -651,6 +666,8 @@ module twh_core #(
             assert(f_cf_n <= FIFO_DEPTH && cmd_level <= F_DEPTH);
             assert(cmd_level == f_cf_n + {{F_AW{1'b0}}, f_cf_ov});
             assert(cmd_empty == !f_cf_ov);
+            // the FIFO's own flags (its proof has them too)
+            assert(f_cf_me == (f_cf_wr == f_cf_rd) && f_cf_rp1 == f_cf_rd + 1'b1);
             assert(cmd_full == (cmd_level == F_DEPTH));
             // every queued command names a channel that exists (the push
             // refuses the others), so a dispatch always lands in a slot

@@ -32,7 +32,10 @@ module twh_fifo #(
     // proven below), so Yosys need not build its read-during-write bypass:
     // on iCE40 that bypass costs a register and a multiplexer per bit.
     (* no_rw_check *) reg [W-1:0] mem [0:DEPTH-1];
-    reg [AW:0]  wr_ptr, rd_ptr;
+    reg [AW:0]  wr_ptr;
+    // verilator lint_off UNUSEDSIGNAL
+    reg [AW:0]  rd_ptr;     // top bit read by the proofs only (occupancy)
+    // verilator lint_on UNUSEDSIGNAL
     reg         out_valid;
 
     // level and full are registers, not sums of the pointers: a push is
@@ -40,7 +43,12 @@ module twh_fifo #(
     // user's critical path.
     reg [LW-1:0] level_r;
     reg          full_r;
-    wire        mem_empty = (wr_ptr == rd_ptr);
+    // "the RAM holds no word" is a flag, not a pointer compare: it gates
+    // the RAM's read enable and the output register, and a compare there is
+    // the slowest path of the core on an iCE40 UP5K. rd_ptr_p1 = rd_ptr + 1
+    // tells a load of the last word apart.
+    reg         mem_empty;
+    reg [AW:0]  rd_ptr_p1;
     assign level = level_r;
     assign full  = full_r;
     assign empty = !out_valid;
@@ -60,6 +68,8 @@ module twh_fifo #(
         if (rst) begin
             wr_ptr    <= {(AW+1){1'b0}};
             rd_ptr    <= {(AW+1){1'b0}};
+            rd_ptr_p1 <= {{AW{1'b0}}, 1'b1};
+            mem_empty <= 1'b1;
             out_valid <= 1'b0;
             level_r   <= {LW{1'b0}};
             full_r    <= 1'b0;
@@ -67,7 +77,12 @@ module twh_fifo #(
             level_r   <= level_next;
             full_r    <= (level_next == DEPTH_L);
             if (do_push) wr_ptr <= wr_ptr + 1'b1;
-            if (load)    rd_ptr <= rd_ptr + 1'b1;
+            if (load) begin
+                rd_ptr    <= rd_ptr_p1;
+                rd_ptr_p1 <= rd_ptr_p1 + 1'b1;
+            end
+            if (do_push)   mem_empty <= 1'b0;
+            else if (load) mem_empty <= (rd_ptr_p1 == wr_ptr);
             if (load)         out_valid <= 1'b1;
             else if (do_pop)  out_valid <= 1'b0;
         end
@@ -107,6 +122,8 @@ module twh_fifo #(
             assert(level == f_mem_count + {{AW{1'b0}}, out_valid});
             assert(out_valid || level == {{(LW-1){1'b0}}, !mem_empty});
             assert(f_mem_count <= DEPTH);
+            assert(mem_empty == (wr_ptr == rd_ptr));
+            assert(rd_ptr_p1 == rd_ptr + 1'b1);
             // no_rw_check on mem: never a push and a load at one address
             assert(!(do_push && load && wr_ptr[AW-1:0] == rd_ptr[AW-1:0]));
         end

@@ -8,6 +8,9 @@
 // (codes in twh_defs.vh). Durations come in as microseconds and are clamped
 // into the spec window when each phase is loaded (see docs/protocol.md);
 // cfg_unlock (lab work only) takes them as they are, zero read as one.
+// Each duration comes with its window flags (below the minimum, above the
+// maximum: twh_window, computed once where the value is written), so the
+// clamp is a choice, with no comparator on the path into the counter.
 // The command phase is not programmable: it lasts exactly its 33 or 44 bits.
 //
 // Everything steps on the carrier tick, so every phase is a whole number of
@@ -37,6 +40,10 @@ module twh_link #(
     input  wire [15:0]      cfg_execute_us,
     input  wire [15:0]      cfg_listen_us,
     input  wire [15:0]      cfg_turnaround_us,
+    // bit k for duration k (0 charge, 1 sync, 2 preamble, 3 execute,
+    // 4 listen, 5 turnaround): it lies below / above its spec window
+    input  wire [5:0]       cfg_below,
+    input  wire [5:0]       cfg_above,
     input  wire             cfg_idle_charge,
     input  wire             cfg_unlock,
     // command stream
@@ -139,14 +146,15 @@ module twh_link #(
     reg        saw_high;   // the line read high during preamble
 
     // The next phase's length, registered a phase ahead in two steps (pick
-    // the value, then clamp it): a phase lasts at least one carrier period,
-    // which is at least 4 clocks, so the value has settled long before it
-    // is loaded, and neither the six-way pick nor the clamp's comparators
-    // sit on one clock's path.
+    // the value with its window flags, then clamp it): a phase lasts at
+    // least one carrier period, which is at least 4 clocks, so the value has
+    // settled long before it is loaded, and neither the six-way pick nor
+    // the clamp's choice sit on one clock's path.
     localparam [2:0] W_NONE = 3'd0, W_CHARGE = 3'd1, W_SYNC = 3'd2, W_PREAMBLE = 3'd3,
                      W_EXECUTE = 3'd4, W_LISTEN = 3'd5, W_TURN = 3'd6;
     reg [15:0] nx_v, pick_v;
     reg [2:0]  nx_w;                // which window applies (W_NONE: fixed length)
+    reg        nx_b, nx_a;          // the value lies below / above that window
     always @(*) begin
         case (ph)
             `TWH_PH_IDLE:     begin nx_v = cfg_charge_us;     nx_w = W_CHARGE;   end
@@ -158,13 +166,23 @@ module twh_link #(
             `TWH_PH_LISTEN:   begin nx_v = cfg_turnaround_us; nx_w = W_TURN;     end
             default:          begin nx_v = 16'd1;             nx_w = W_NONE;     end   // idle: no hold-off after a turnaround
         endcase
+        case (nx_w)
+            W_CHARGE:   begin nx_b = cfg_below[0]; nx_a = cfg_above[0]; end
+            W_SYNC:     begin nx_b = cfg_below[1]; nx_a = cfg_above[1]; end
+            W_PREAMBLE: begin nx_b = cfg_below[2]; nx_a = cfg_above[2]; end
+            W_EXECUTE:  begin nx_b = cfg_below[3]; nx_a = cfg_above[3]; end
+            W_LISTEN:   begin nx_b = cfg_below[4]; nx_a = cfg_above[4]; end
+            W_TURN:     begin nx_b = cfg_below[5]; nx_a = cfg_above[5]; end
+            default:    begin nx_b = 1'b0;         nx_a = 1'b0;         end
+        endcase
     end
-    // The window's bounds are registered beside the value (not picked from
-    // a registered window code), so the clamp's comparators start straight
-    // from flip-flops.
-    reg [15:0] w_lo, w_hi, pick_lo, pick_hi;
+    // The window picked (W_NONE under the lab unlock: at least 1, no upper
+    // bound) travels as its code; its bounds are constants of the code.
+    reg [2:0]  pick_w;
+    reg        pick_b, pick_a;
+    reg [15:0] w_lo, w_hi;
     always @(*) begin
-        case (cfg_unlock ? W_NONE : nx_w)       // W_NONE: at least 1, no window
+        case (pick_w)
             W_CHARGE:   begin w_lo = `TWH_CHARGE_MIN;     w_hi = `TWH_US_MAX;       end
             W_SYNC:     begin w_lo = `TWH_SYNC_MIN;       w_hi = `TWH_SYNC_MAX;     end
             W_PREAMBLE: begin w_lo = `TWH_PREAMBLE_MIN;   w_hi = `TWH_PREAMBLE_MAX; end
@@ -174,13 +192,15 @@ module twh_link #(
             default:    begin w_lo = 16'd1;               w_hi = `TWH_US_MAX;       end
         endcase
     end
+    wire pick_free = (pick_w == W_NONE);    // only zero lies outside 1..max
     always @(posedge clk) begin
-        pick_v  <= nx_v;
-        pick_lo <= w_lo;
-        pick_hi <= w_hi;
-        if (pick_v < pick_lo)      dur_next <= pick_lo;
-        else if (pick_v > pick_hi) dur_next <= pick_hi;
-        else                       dur_next <= pick_v;
+        pick_v <= nx_v;
+        pick_w <= cfg_unlock ? W_NONE : nx_w;
+        pick_b <= !cfg_unlock && nx_b;
+        pick_a <= !cfg_unlock && nx_a;
+        if (pick_b || (pick_free && pick_v == 16'd0)) dur_next <= w_lo;
+        else if (pick_a)                              dur_next <= w_hi;
+        else                                          dur_next <= pick_v;
     end
 
     // cnt moves only on a carrier tick and ticks are a period (at least 4
@@ -336,9 +356,10 @@ module twh_link #(
 
 `ifdef FORMAL
     // ================================================================ formal
-    // The engine on its own (formal/twh_link.sby). Nothing is assumed: every
-    // input, rst and the line included, is free, and everything holds from
-    // the first reset on (f_ok). Durations are counted in carrier ticks; that
+    // The engine on its own (formal/twh_link.sby). Every input, rst and the
+    // line included, is free but for one assumption (the window flags agree
+    // with their durations, below), and everything holds from the first
+    // reset on (f_ok). Durations are counted in carrier ticks; that
     // a tick is one microsecond is twh_carrier's own proof. The checks at the
     // pin and at clock level need whole carrier periods inside the induction
     // window, so they are compiled in only with TWH_F_LINK_PINS (4 MHz job).
@@ -360,6 +381,22 @@ module twh_link #(
         f_cfg2 <= f_cfg1;
         f_unl1 <= cfg_unlock;
         f_unl2 <= f_unl1;
+    end
+
+    // The one assumption: each duration's window flags are those of its
+    // value (twh_window where it is written; twh_channel's proof asserts
+    // them of the registers it keeps). The windows are written out here.
+    function [1:0] f_fl;          // {above, below} the window lo..hi
+        input [15:0] v, lo, hi;
+        f_fl = {v > hi, v < lo};
+    endfunction
+    always @(*) begin
+        assume({cfg_above[0], cfg_below[0]} == f_fl(cfg_charge_us,     16'd7000, 16'hFFFF));
+        assume({cfg_above[1], cfg_below[1]} == f_fl(cfg_sync_us,       16'd900,  16'd1100));
+        assume({cfg_above[2], cfg_below[2]} == f_fl(cfg_preamble_us,   16'd1800, 16'd2200));
+        assume({cfg_above[3], cfg_below[3]} == f_fl(cfg_execute_us,    16'd3500, 16'd10000));
+        assume({cfg_above[4], cfg_below[4]} == f_fl(cfg_listen_us,     16'd2000, 16'hFFFF));
+        assume({cfg_above[5], cfg_below[5]} == f_fl(cfg_turnaround_us, 16'd2000, 16'hFFFF));
     end
 
     wire       f_txn   = (ph != `TWH_PH_IDLE) && (ph != `TWH_PH_TURNAROUND); // phases 1-6

@@ -77,7 +77,11 @@ module twh_uart_bridge #(
     reg [2:0]    left;       // answer bytes still to send after tx_data
     reg          bus_err, frame_err, dropped;
     reg          chk;        // the request is complete: its sum is checked next
-    reg [TW-1:0] idle;       // clocks since the request's last byte
+    // clocks left before a request that stopped arriving is dropped: a
+    // down-counter with its zero registered, so no wide compare sits on
+    // the path into the request state
+    reg [TW-1:0] idle;
+    reg          idle_out;   // idle == 0: the next idle clock times out
 
     wire last_byte = is_write ? (idx == 3'd5) : (idx == 3'd1);
     wire [7:0] status = {4'hA, dropped, irq, frame_err, bus_err};
@@ -109,7 +113,8 @@ module twh_uart_bridge #(
             frame_err <= 1'b0;
             dropped   <= 1'b0;
             chk       <= 1'b0;
-            idle      <= {TW{1'b0}};
+            idle      <= C_TMO;
+            idle_out  <= 1'b0;
             tx_data   <= 8'd0;
             tx_valid  <= 1'b0;
             wb_stb_o  <= 1'b0;
@@ -145,7 +150,8 @@ module twh_uart_bridge #(
                 end else if (rx_valid && !in_req) begin
                     sum  <= rx_data;
                     idx  <= 3'd0;
-                    idle <= {TW{1'b0}};
+                    idle     <= C_TMO;
+                    idle_out <= 1'b0;
                     if (rx_data == OP_READ || rx_data == OP_WRITE) begin
                         in_req   <= 1'b1;
                         is_write <= (rx_data == OP_WRITE);
@@ -162,7 +168,8 @@ module twh_uart_bridge #(
                 end else if (rx_valid) begin
                     idx  <= idx + 1'b1;
                     sum  <= sum + rx_data;
-                    idle <= {TW{1'b0}};
+                    idle     <= C_TMO;
+                    idle_out <= 1'b0;
                     if (idx == 3'd0)
                         adr <= rx_data;
                     if (last_byte) begin
@@ -172,12 +179,13 @@ module twh_uart_bridge #(
                         chk       <= 1'b1;
                     end
                 end else if (in_req) begin
-                    if (idle == C_TMO) begin
+                    if (idle_out) begin
                         in_req  <= 1'b0;
                         dropped <= 1'b1;
                         fault   <= 1'b1;
                     end else begin
-                        idle <= idle + 1'b1;
+                        idle     <= idle - 1'b1;
+                        idle_out <= (idle == {{(TW-1){1'b0}}, 1'b1});
                     end
                 end
             end

@@ -59,11 +59,25 @@ module tb_link #(
     );
     assign line_i = line;
 
+    // the window flags the engine clamps by, as the core makes them
+    // (one twh_window per timing register)
+    wire [5:0] cfg_below, cfg_above;
+    twh_window u_w0 (.sel(2'd0), .value({cfg_sync_us, cfg_charge_us}),
+                     .lo_below(cfg_below[0]), .lo_above(cfg_above[0]),
+                     .hi_below(cfg_below[1]), .hi_above(cfg_above[1]));
+    twh_window u_w1 (.sel(2'd1), .value({cfg_execute_us, cfg_preamble_us}),
+                     .lo_below(cfg_below[2]), .lo_above(cfg_above[2]),
+                     .hi_below(cfg_below[3]), .hi_above(cfg_above[3]));
+    twh_window u_w2 (.sel(2'd2), .value({cfg_turnaround_us, cfg_listen_us}),
+                     .lo_below(cfg_below[4]), .lo_above(cfg_above[4]),
+                     .hi_below(cfg_below[5]), .hi_above(cfg_above[5]));
+
     twh_link #(.CLK_HZ(CLK_HZ), .TAG_W(8)) dut (
         .clk(clk), .rst(rst),
         .cfg_charge_us(cfg_charge_us), .cfg_sync_us(cfg_sync_us),
         .cfg_preamble_us(cfg_preamble_us), .cfg_execute_us(cfg_execute_us),
         .cfg_listen_us(cfg_listen_us), .cfg_turnaround_us(cfg_turnaround_us),
+        .cfg_below(cfg_below), .cfg_above(cfg_above),
         .cfg_idle_charge(cfg_idle_charge), .cfg_unlock(cfg_unlock),
         .s_cmd_valid(s_cmd_valid), .s_cmd_ready(s_cmd_ready),
         .s_cmd_code(s_cmd_code), .s_cmd_payload(s_cmd_payload), .s_cmd_tag(s_cmd_tag), .s_cmd_skip(s_cmd_skip),

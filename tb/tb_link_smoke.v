@@ -44,6 +44,7 @@ module tb_link_smoke;
         .cfg_charge_us(`TWH_CHARGE_DEF), .cfg_sync_us(`TWH_SYNC_DEF),
         .cfg_preamble_us(`TWH_PREAMBLE_DEF), .cfg_execute_us(`TWH_EXECUTE_DEF),
         .cfg_listen_us(`TWH_LISTEN_DEF), .cfg_turnaround_us(`TWH_TURNAROUND_DEF),
+        .cfg_below(6'd0), .cfg_above(6'd0),      // the defaults lie in their windows
         .cfg_idle_charge(1'b0), .cfg_unlock(1'b0),
         .s_cmd_valid(s_cmd_valid), .s_cmd_ready(s_cmd_ready),
         .s_cmd_code(8'h41), .s_cmd_payload(16'h00AA), .s_cmd_tag(8'h5A),
