@@ -123,14 +123,25 @@ module twh_core #(
     wire       i_ch_ok  = i_is_ch && (i_blk < CH_COUNT);
     wire [3:0] i_g      = reg_addr[5:2];
     wire       i_wr     = reg_req && reg_we && (reg_wstrb == 4'hF);
+    wire       i_rd     = reg_req && !reg_we;
+    wire       i_grd    = i_rd && !i_is_ch;          // a read of a global register
     integer    i_n;
     always @(posedge clk) begin
-        for (i_n = 0; i_n < CHANNELS; i_n = i_n + 1)
-            q_ch[i_n] <= !rst && i_wr && (i_blk[2:0] == i_n[2:0]);
+        for (i_n = 0; i_n < CHANNELS; i_n = i_n + 1) begin
+            q_ch[i_n]   <= !rst && i_wr && (i_blk[2:0] == i_n[2:0]);
+            q_r_ch[i_n] <= (i_blk[2:0] == i_n[2:0]);  // q_r_creg says whether it is read
+        end
     end
 
     reg        q_req, q_we, q_full, q_key_lab, q_key_fact, q_factory;
-    reg        q_wr, q_rd, q_mapped, q_bad_ch, q_rd_ok, q_is_ch;
+    reg        q_wr, q_rd, q_mapped, q_bad_ch;
+    // Read selects, one per register a read shows (none for write-only or
+    // unmapped addresses): the answer is an AND-OR of flip-flops with no
+    // address decode in front of it. RES_POP's is q_pop.
+    reg        q_r_id, q_r_version, q_r_params, q_r_ctrl, q_r_status, q_r_levels,
+               q_r_errors, q_r_irq_en, q_r_irq_status, q_r_poll_ready, q_r_res_info;
+    reg [5:0]  q_r_creg;         // channel register 0-5 of an existing channel read ...
+    reg [CHANNELS-1:0] q_r_ch;   // ... and that channel (one-hot)
     reg [3:0]  q_cmp;            // i_cmp of the request
     reg        q_win_p;          // i_win_p of the request
     reg [3:0]  q_wt;             // channel register 0-3 of an existing channel addressed
@@ -152,9 +163,19 @@ module twh_core #(
         q_key_fact <= (reg_wdata == `TWH_FACTORY_KEY);
         q_factory  <= i_factory;
         q_bad_ch   <= {1'b0, reg_wdata[26:24]} >= CH_COUNT;
-        q_is_ch    <= i_is_ch;
-        q_rd_ok    <= !rst && reg_req && !reg_we &&
-                      (i_is_ch ? (i_ch_ok && reg_addr[4:2] <= 3'd5) : (i_g != 4'd15));
+        q_r_creg   <= (!rst && i_rd && i_ch_ok && reg_addr[4:2] <= 3'd5) ? 6'b000001 << reg_addr[4:2]
+                                                                         : 6'b000000;
+        q_r_id         <= !rst && i_grd && i_g == R_ID;
+        q_r_version    <= !rst && i_grd && i_g == R_VERSION;
+        q_r_params     <= !rst && i_grd && i_g == R_PARAMS;
+        q_r_ctrl       <= !rst && i_grd && i_g == R_CTRL;
+        q_r_status     <= !rst && i_grd && i_g == R_STATUS;
+        q_r_levels     <= !rst && i_grd && i_g == R_LEVELS;
+        q_r_errors     <= !rst && i_grd && i_g == R_ERRORS;
+        q_r_irq_en     <= !rst && i_grd && i_g == R_IRQ_EN;
+        q_r_irq_status <= !rst && i_grd && i_g == R_IRQ_STATUS;
+        q_r_poll_ready <= !rst && i_grd && i_g == R_POLL_READY;
+        q_r_res_info   <= !rst && i_grd && i_g == R_RES_INFO;
         q_mapped   <= i_is_ch ? (i_ch_ok && reg_addr[4:2] <= 3'd5) : (i_g != 4'd15);
         q_wt       <= (i_ch_ok && reg_addr[4:2] <= 3'd3) ? 4'b0001 << reg_addr[3:2] : 4'b0000;
         // write (or, for RES_POP, read) strobes of the global registers
@@ -164,20 +185,22 @@ module twh_core #(
         q_irq_en     <= !rst && i_wr && !i_is_ch && i_g == R_IRQ_EN;
         q_poll_ready <= !rst && i_wr && !i_is_ch && i_g == R_POLL_READY;
         q_push       <= !rst && i_wr && !i_is_ch && i_g == R_CMD_PUSH;
-        q_pop        <= !rst && reg_req && !reg_we && !i_is_ch && i_g == R_RES_POP;
+        q_pop        <= !rst && i_grd && i_g == R_RES_POP;
         q_lab_key    <= !rst && i_wr && !i_is_ch && i_g == R_LAB_KEY;
         q_fact_key   <= !rst && i_wr && !i_is_ch && i_g == R_FACTORY_KEY;
     end
 
     // ------------------------------------------------------------ decode
+    // The request's address decoded again, for the proofs only: every flag
+    // of the request stage is proven equal to this decode of q_addr.
+    // verilator lint_off UNUSEDSIGNAL
     wire       is_ch     = (q_addr[8:6] != 3'd0);             // 0x40 and up
     wire [3:0] ch_blk    = q_addr[8:5] - 4'd2;                // channel block
     wire [2:0] ch_sel    = ch_blk[2:0];
     wire [2:0] ch_reg    = q_addr[4:2];
-    // verilator lint_off UNUSEDSIGNAL
-    wire       ch_exists = is_ch && (ch_blk < CH_COUNT) && (ch_reg <= 3'd5);   // formal only (q_mapped, q_wt)
-    // verilator lint_on UNUSEDSIGNAL
+    wire       ch_exists = is_ch && (ch_blk < CH_COUNT) && (ch_reg <= 3'd5);
     wire [3:0] g_reg     = q_addr[5:2];
+    // verilator lint_on UNUSEDSIGNAL
     wire       full_word = q_full;
     // verilator lint_off UNUSEDSIGNAL
     wire       wr        = q_wr;         // q_req && q_we && full_word (formal only: the
@@ -335,7 +358,13 @@ module twh_core #(
     // verilator lint_on UNUSEDSIGNAL
 
     // ------------------------------------------------------------ register writes
-    wire push_link_err = res_push && (push_status >= `TWH_ST_BAD_CHECKSUM) &&
+    // A result's link status sets LINK_ERROR a clock after the result goes
+    // into the FIFO (registered: the scan's status multiplexer is off the
+    // error register's path); the result reaches the FIFO's output in that
+    // same clock, so software never sees the one without the other.
+    reg  push_link_err;
+    always @(posedge clk)
+        push_link_err <= !rst && res_push && (push_status >= `TWH_ST_BAD_CHECKSUM) &&
                          (push_status <= `TWH_ST_LINE_STUCK_HIGH);
     wire [7:0] sample8, busy8;
 
@@ -413,42 +442,37 @@ module twh_core #(
     wire        src_poll   = (poll_ready != 8'd0);
     assign irq = (ie_result && src_result) || (ie_error && src_error) || (ie_poll && src_poll);
 
-    // an empty FIFO's output register holds stale data: show zeros (masked
-    // before the multiplexer, not after it)
-    wire [35:0] res_shown = res_head & {36{!res_empty}};
-    reg [31:0] g_rdata;
-    always @(*) begin
-        case (g_reg)
-            R_ID:         g_rdata = `TWH_MAGIC;
-            R_VERSION:    g_rdata = {factory_armed, lab, 10'd0, CH_COUNT,
-                                     `TWH_VERSION_MAJOR, `TWH_VERSION_MINOR};
-            R_PARAMS:     g_rdata = {CLK_KHZ, DEPTH12};
-            R_CTRL:       g_rdata = {16'd0, idle_charge, 7'd0, enable};
-            R_STATUS:     g_rdata = {19'd0, flushing, res_empty, res_full, cmd_empty,
-                                     cmd_full, busy8};
-            R_LEVELS:     g_rdata = {res_level16, cmd_level16};
-            R_ERRORS:     g_rdata = {27'd0, errors};
-            R_IRQ_EN:     g_rdata = {16'd0, res_threshold, 5'd0, ie_poll, ie_error, ie_result};
-            R_IRQ_STATUS: g_rdata = {29'd0, src_poll, src_error, src_result};
-            R_POLL_READY: g_rdata = {24'd0, poll_ready};
-            R_RES_INFO:   g_rdata = {11'd0, res_shown[35:31], !res_empty, res_shown[30:28],
-                                     res_shown[27:24], res_shown[23:16]};
-            R_RES_POP:    g_rdata = {3'd0, res_shown[35:31], !res_empty, res_shown[30:28],
-                                     res_shown[27:24], res_shown[15:0]};
-            default:      g_rdata = 32'd0;     // write-only and unmapped
-        endcase
-    end
+    // An empty FIFO's output register holds stale data: its fields read
+    // zero (the select is masked, not the word).
+    wire        r_res_info = q_r_res_info && !res_empty;
+    wire        r_res_pop  = q_pop && !res_empty;
+    wire [31:0] g_rdata =
+          ({32{q_r_id}}         & `TWH_MAGIC)
+        | ({32{q_r_version}}    & {factory_armed, lab, 10'd0, CH_COUNT,
+                                   `TWH_VERSION_MAJOR, `TWH_VERSION_MINOR})
+        | ({32{q_r_params}}     & {CLK_KHZ, DEPTH12})
+        | ({32{q_r_ctrl}}       & {16'd0, idle_charge, 7'd0, enable})
+        | ({32{q_r_status}}     & {19'd0, flushing, res_empty, res_full, cmd_empty,
+                                   cmd_full, busy8})
+        | ({32{q_r_levels}}     & {res_level16, cmd_level16})
+        | ({32{q_r_errors}}     & {27'd0, errors})
+        | ({32{q_r_irq_en}}     & {16'd0, res_threshold, 5'd0, ie_poll, ie_error, ie_result})
+        | ({32{q_r_irq_status}} & {29'd0, src_poll, src_error, src_result})
+        | ({32{q_r_poll_ready}} & {24'd0, poll_ready})
+        | ({32{r_res_info}}     & {11'd0, res_head[35:31], 1'b1, res_head[30:28],
+                                   res_head[27:24], res_head[23:16]})
+        | ({32{r_res_pop}}      & {3'd0, res_head[35:31], 1'b1, res_head[30:28],
+                                   res_head[27:24], res_head[15:0]});
 
     reg [31:0] c_rdata;
+    integer    r_n;
     always @(*) begin
-        case (ch_reg)
-            3'd0:    c_rdata = c_t0[ch_sel*32 +: 32];
-            3'd1:    c_rdata = c_t1[ch_sel*32 +: 32];
-            3'd2:    c_rdata = c_t2[ch_sel*32 +: 32];
-            3'd3:    c_rdata = c_pc[ch_sel*32 +: 32];
-            3'd4:    c_rdata = c_pr[ch_sel*32 +: 32];
-            default: c_rdata = c_st[ch_sel*32 +: 32];
-        endcase
+        c_rdata = 32'd0;
+        for (r_n = 0; r_n < CHANNELS; r_n = r_n + 1)
+            c_rdata = c_rdata | ({32{q_r_ch[r_n]}} &
+                  (({32{q_r_creg[0]}} & c_t0[r_n*32 +: 32]) | ({32{q_r_creg[1]}} & c_t1[r_n*32 +: 32])
+                 | ({32{q_r_creg[2]}} & c_t2[r_n*32 +: 32]) | ({32{q_r_creg[3]}} & c_pc[r_n*32 +: 32])
+                 | ({32{q_r_creg[4]}} & c_pr[r_n*32 +: 32]) | ({32{q_r_creg[5]}} & c_st[r_n*32 +: 32])));
     end
 
     always @(posedge clk) begin
@@ -460,7 +484,7 @@ module twh_core #(
             reg_ack   <= q_req;
             reg_err   <= q_req && (!mapped || (q_we && !full_word) ||
                                      (push_req && (push_bad_ch || cmd_full)));
-            reg_rdata <= q_rd_ok ? (q_is_ch ? c_rdata : g_rdata) : 32'd0;
+            reg_rdata <= g_rdata | c_rdata;
         end
     end
 
@@ -519,7 +543,6 @@ module twh_core #(
             // the decode taken on the way in is that of the request's own
             // address and data
             assert(q_wr == (q_req && q_we && q_full) && q_rd == (q_req && !q_we));
-            assert(q_rd_ok == (rd && mapped) && q_is_ch == is_ch);
             assert(q_mapped == ((!is_ch && g_reg != 4'd15) || ch_exists));
             assert(q_wt == ((ch_exists && ch_reg <= 3'd3) ? 4'b0001 << ch_reg[1:0] : 4'b0000));
             if (q_wt != 4'b0000)
@@ -540,6 +563,53 @@ module twh_core #(
             assert(q_key_fact == (q_wdata == 32'h46414354));
         end
     end
+
+    // A read answers what the request's own address names, written out here
+    // as the plain address multiplexer the one-hot selects stand for; zero
+    // for write-only and unmapped addresses and for an empty result FIFO's
+    // fields.
+    wire [35:0] f_res_shown = res_head & {36{!res_empty}};
+    reg  [31:0] f_rdata, f_rdata_q;
+    always @(*) begin
+        f_rdata = 32'd0;
+        if (rd && mapped) begin
+            if (is_ch) begin
+                case (ch_reg)
+                    3'd0:    f_rdata = c_t0[ch_sel*32 +: 32];
+                    3'd1:    f_rdata = c_t1[ch_sel*32 +: 32];
+                    3'd2:    f_rdata = c_t2[ch_sel*32 +: 32];
+                    3'd3:    f_rdata = c_pc[ch_sel*32 +: 32];
+                    3'd4:    f_rdata = c_pr[ch_sel*32 +: 32];
+                    default: f_rdata = c_st[ch_sel*32 +: 32];
+                endcase
+            end else begin
+                case (g_reg)
+                    R_ID:         f_rdata = 32'h54574831;
+                    R_VERSION:    f_rdata = {factory_armed, lab, 10'd0, CH_COUNT, 8'd1, 8'd0};
+                    R_PARAMS:     f_rdata = {CLK_KHZ, DEPTH12};
+                    R_CTRL:       f_rdata = {16'd0, idle_charge, 7'd0, enable};
+                    R_STATUS:     f_rdata = {19'd0, flushing, res_empty, res_full, cmd_empty,
+                                             cmd_full, busy8};
+                    R_LEVELS:     f_rdata = {res_level16, cmd_level16};
+                    R_ERRORS:     f_rdata = {27'd0, errors};
+                    R_IRQ_EN:     f_rdata = {16'd0, res_threshold, 5'd0, ie_poll, ie_error, ie_result};
+                    R_IRQ_STATUS: f_rdata = {29'd0, src_poll, src_error, src_result};
+                    R_POLL_READY: f_rdata = {24'd0, poll_ready};
+                    R_RES_INFO:   f_rdata = {11'd0, f_res_shown[35:31], !res_empty, f_res_shown[30:28],
+                                             f_res_shown[27:24], f_res_shown[23:16]};
+                    R_RES_POP:    f_rdata = {3'd0, f_res_shown[35:31], !res_empty, f_res_shown[30:28],
+                                             f_res_shown[27:24], f_res_shown[15:0]};
+                    default:      f_rdata = 32'd0;
+                endcase
+            end
+        end
+    end
+    reg f_chk_rd = 1'b0;      // the clock before was decoded as above and no reset
+    always @(posedge clk) begin
+        f_chk_rd  <= f_rs && f_h && !rst;
+        f_rdata_q <= f_rdata;
+    end
+    always @(*) if (f_chk_rd) assert(reg_rdata == f_rdata_q);
 
 `ifdef TWH_F_CORE
     reg f_ok = 1'b0;

@@ -75,7 +75,10 @@ module twh_fifo #(
             full_r    <= 1'b0;
         end else begin
             level_r   <= level_next;
-            full_r    <= (level_next == DEPTH_L);
+            // from the level as it stands, not through the adder: a full
+            // FIFO takes no push, so only a pop ends it
+            if (full_r) full_r <= !do_pop;
+            else        full_r <= do_push && !do_pop && (level_r == DEPTH_L - 1'b1);
             if (do_push) wr_ptr <= wr_ptr + 1'b1;
             if (load) begin
                 rd_ptr    <= rd_ptr_p1;

@@ -110,7 +110,7 @@ module twh_link #(
     reg [7:0]        cmd_r;
     reg [TAG_W-1:0]  tag_r;
     reg [15:0]       pay_r;
-    reg [7:0]        chk_r;      // taken when the charge starts, off the line's path
+    reg [7:0]        chk_r;      // tx_chk a clock later (see below)
     reg [3:0]        bitn;       // 0 start, 1-8 data, 9-10 stop
     reg [1:0]        byten;      // frame byte on the line
 
@@ -121,6 +121,11 @@ module twh_link #(
     twh_checksum u_tx_chk (
         .a(cmd_r), .b(long_cmd ? pay_r[15:8] : 8'd0), .c(pay_r[7:0]), .chk(tx_chk)
     );
+    // The checksum registered: its adders are off every other path. The
+    // command stays put from its accept to its result and the charge starts
+    // a clock after the accept at the earliest, so chk_r is current for the
+    // whole transaction.
+    always @(posedge clk) chk_r <= tx_chk;
     reg [7:0] tx_byte;
     always @(*) begin
         case (byten)
@@ -130,6 +135,11 @@ module twh_link #(
             default: tx_byte = chk_r;
         endcase
     end
+    // The byte on the line, registered: it changes only with byten, at the
+    // start of a character, when the line shows the start bit whatever the
+    // byte is; a clock later, long before its first data bit, it is current.
+    reg [7:0] tx_byte_q;
+    always @(posedge clk) tx_byte_q <= tx_byte;
 
     // Registered, so the caller's arbitration does not start from the
     // sequencer's state: it lags the true condition by a clock and is never
@@ -238,7 +248,6 @@ module twh_link #(
             cmd_r       <= 8'd0;
             tag_r       <= {TAG_W{1'b0}};
             pay_r       <= 16'd0;
-            chk_r       <= 8'd0;
             bitn        <= 4'd0;
             byten       <= 2'd0;
             saw_low     <= 1'b0;
@@ -275,7 +284,6 @@ module twh_link #(
                         cnt <= cnt - 1'b1;           // post-reset hold-off
                     end else if (pending) begin
                         pending  <= 1'b0;
-                        chk_r    <= tx_chk;
                         ph       <= `TWH_PH_CHARGE;
                         cnt      <= dur_next;
                         saw_low  <= 1'b0;
@@ -312,7 +320,7 @@ module twh_link #(
     // ------------------------------------------------------------ line drive
     // The line follows the sequencer one clock later; every burst and gap
     // keeps its exact length.
-    wire [9:0] tx_char  = {1'b1, tx_byte, 1'b0};       // start, 8 data LSB first, stop
+    wire [9:0] tx_char  = {1'b1, tx_byte_q, 1'b0};     // start, 8 data LSB first, stop
     wire       tx_level = (bitn >= 4'd9) ? 1'b1 : tx_char[bitn];
     reg  carrier_on, drive;
     always @(*) begin
@@ -528,6 +536,8 @@ module twh_link #(
                 assert(bitn <= 4'd10);
                 assert({2'd0, byten} * 6'd11 + {2'd0, bitn} == f_ticks[10:5]);
                 assert(tx_level == f_frame[f_ticks[10:5]]);
+                // the registered byte is the current one past the start bit
+                if (bitn != 4'd0) assert(tx_byte_q == tx_byte);
             end
 
             // ---- one command at a time, one result for each

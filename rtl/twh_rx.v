@@ -27,7 +27,10 @@ module twh_rx (
     output reg         started,     // a start bit passed its re-check
     output reg         frame_err
 );
-    reg       ended;      // the line went silent (a break) mid-answer
+    // verilator lint_off UNUSEDSIGNAL
+    reg       ended;      // the line went silent (a break) mid-answer (read by the proofs;
+                          // the logic needs only `done`)
+    // verilator lint_on UNUSEDSIGNAL
     reg       active;     // inside a character
     reg       more;       // a good stop bit was seen: next start needs no mark
     reg [4:0] mark;       // consecutive mark ticks, saturating at 16
@@ -36,7 +39,9 @@ module twh_rx (
     reg [1:0] votes;      // ones among the samples of this bit
     reg [7:0] sh;
 
-    wire done = (nbytes == 2'd3) || frame_err || ended;
+    // the answer is complete (three bytes), broken or over: a flag set with
+    // its cause, so the enables of everything above start from a flip-flop
+    reg  done;
     wire vote_tick = (sub == 5'd11) || (sub == 5'd15) || (sub == 5'd19);
     // the third sample completes the vote
     wire bit_val = (votes + {1'b0, env}) >= 2'd2;
@@ -55,6 +60,7 @@ module twh_rx (
             bitn      <= 4'd0;
             votes     <= 2'd0;
             sh        <= 8'd0;
+            done      <= 1'b0;
         end else if (tick && !done) begin
             if (!env)                mark <= 5'd0;
             else if (mark != 5'd16)  mark <= mark + 1'b1;
@@ -85,10 +91,13 @@ module twh_rx (
                                 more   <= 1'b1;
                                 nbytes <= nbytes + 1'b1;
                                 bytes  <= {bytes[15:0], sh};
+                                if (nbytes == 2'd2) done <= 1'b1;
                             end else if (sh == 8'd0) begin
                                 ended     <= 1'b1;
+                                done      <= 1'b1;
                             end else begin
                                 frame_err <= 1'b1;
+                                done      <= 1'b1;
                             end
                         end
                         default: sh <= {bit_val, sh[7:1]};
@@ -158,6 +167,7 @@ module twh_rx (
             // the counters stay in range
             assert(bitn <= 4'd9);
             if (active) assert(!done);
+            assert(done == ((nbytes == 2'd3) || frame_err || ended));
             assert(mark <= 5'd16);
             if (!done) assert(mark == f_mk);
             if (active && bitn == 4'd9) assert(sub <= 5'd19);
