@@ -56,8 +56,10 @@ module twh_fifo #(
     wire do_push = push && !full;
     wire do_pop  = pop && out_valid;
     wire load    = !mem_empty && (!out_valid || do_pop);
-    wire [LW-1:0] level_next = level_r + {{(LW-1){1'b0}}, do_push}
-                                       - {{(LW-1){1'b0}}, do_pop};
+    // up, down or held: the increment and the decrement run side by side
+    // from the register, and push and pop only pick one
+    wire [LW-1:0] level_up = level_r + 1'b1;
+    wire [LW-1:0] level_dn = level_r - 1'b1;
 
     always @(posedge clk) begin
         if (do_push) mem[wr_ptr[AW-1:0]] <= din;
@@ -74,7 +76,8 @@ module twh_fifo #(
             level_r   <= {LW{1'b0}};
             full_r    <= 1'b0;
         end else begin
-            level_r   <= level_next;
+            if (do_push && !do_pop)      level_r <= level_up;
+            else if (do_pop && !do_push) level_r <= level_dn;
             // from the level as it stands, not through the adder: a full
             // FIFO takes no push, so only a pop ends it
             if (full_r) full_r <= !do_pop;

@@ -96,17 +96,24 @@ module twh_link #(
         .frame_err(rx_frame_err)
     );
 
+    // The expected checksum is taken from the first two bytes while the
+    // third is still on its way (bytes shift in at the bottom, so with two
+    // in they are rx_bytes[15:0]), and compared when it is in; the verdict
+    // is registered: the last byte is complete at its stop bit's middle, a
+    // carrier period or more before the listen phase can end. Neither the
+    // adders nor the comparator sit on the path into the verdict.
     wire [7:0] rx_chk;
     twh_checksum u_rx_chk (
-        .a(rx_bytes[23:16]), .b(rx_bytes[15:8]), .c(8'd0), .chk(rx_chk)
+        .a(rx_bytes[15:8]), .b(rx_bytes[7:0]), .c(8'd0), .chk(rx_chk)
     );
-    // The verdict is registered: the last byte is complete at its stop
-    // bit's middle, a carrier period or more before the listen phase can end.
+    reg [7:0] rx_exp;
+    always @(posedge clk) if (rx_n == 2'd2) rx_exp <= rx_chk;
     reg rx_chk_ok;
-    always @(posedge clk) rx_chk_ok <= (rx_chk == rx_bytes[7:0]);
+    always @(posedge clk) rx_chk_ok <= (rx_exp == rx_bytes[7:0]);
 
     // ------------------------------------------------------------ command
     reg              pending;
+    reg              pend_q;     // pending a clock ago too: tx_psum is current
     reg [7:0]        cmd_r;
     reg [TAG_W-1:0]  tag_r;
     reg [15:0]       pay_r;
@@ -117,14 +124,17 @@ module twh_link #(
     // 0x80-0xFF: 4-byte frame {code, payload hi, payload lo, checksum};
     // otherwise 3 bytes {code, payload lo, checksum}
     wire long_cmd = cmd_r[7];
+    // The checksum over two clocks, one adder each (the code and the low
+    // payload byte first, then the high one and the complement), so no
+    // adder chain sits on one clock's path. The command stays put from its
+    // accept to its result, and the charge waits for pend_q (pending a
+    // clock already), so chk_r is current for the whole transaction.
+    reg  [7:0] tx_psum;
     wire [7:0] tx_chk;
+    always @(posedge clk) tx_psum <= cmd_r + pay_r[7:0];
     twh_checksum u_tx_chk (
-        .a(cmd_r), .b(long_cmd ? pay_r[15:8] : 8'd0), .c(pay_r[7:0]), .chk(tx_chk)
+        .a(tx_psum), .b(pay_r[15:8]), .c(8'd0), .chk(tx_chk)
     );
-    // The checksum registered: its adders are off every other path. The
-    // command stays put from its accept to its result and the charge starts
-    // a clock after the accept at the earliest, so chk_r is current for the
-    // whole transaction.
     always @(posedge clk) chk_r <= tx_chk;
     reg [7:0] tx_byte;
     always @(*) begin
@@ -245,6 +255,7 @@ module twh_link #(
             // line must rest at least the full minimum turnaround
             cnt         <= `TWH_TURNAROUND_MIN + 16'd1;
             pending     <= 1'b0;
+            pend_q      <= 1'b0;
             cmd_r       <= 8'd0;
             tag_r       <= {TAG_W{1'b0}};
             pay_r       <= 16'd0;
@@ -257,6 +268,7 @@ module twh_link #(
             m_res_status<= 4'd0;
         end else begin
             if (m_res_valid && m_res_ready) m_res_valid <= 1'b0;
+            pend_q <= pending;
             rdy <= (ph == `TWH_PH_IDLE) && !pending && !m_res_valid && !accept;
 
             // The command is taken whole on every accept (the registers'
@@ -265,7 +277,9 @@ module twh_link #(
             if (accept) begin
                 cmd_r <= s_cmd_code;
                 tag_r <= s_cmd_tag;
-                pay_r <= s_cmd_payload;
+                // a 3-byte command's unused payload byte is kept as zero,
+                // so the checksum adds both bytes with no choice in front
+                pay_r <= {s_cmd_code[7] ? s_cmd_payload[15:8] : 8'd0, s_cmd_payload[7:0]};
                 if (s_cmd_skip != 4'd0) begin
                     m_res_valid  <= 1'b1;
                     m_res_status <= s_cmd_skip;
@@ -282,7 +296,7 @@ module twh_link #(
                 if (ph == `TWH_PH_IDLE) begin
                     if (!last) begin
                         cnt <= cnt - 1'b1;           // post-reset hold-off
-                    end else if (pending) begin
+                    end else if (pending && pend_q) begin
                         pending  <= 1'b0;
                         ph       <= `TWH_PH_CHARGE;
                         cnt      <= dur_next;
@@ -408,7 +422,9 @@ module twh_link #(
     end
 
     wire       f_txn   = (ph != `TWH_PH_IDLE) && (ph != `TWH_PH_TURNAROUND); // phases 1-6
-    wire       f_leave = tick && last && ((ph != `TWH_PH_IDLE) || pending);   // next phase loads
+    // the answer's checksum as the spec states it (section 5)
+    wire [7:0] f_rx_chk = ~(rx_bytes[23:16] + rx_bytes[15:8]);
+    wire       f_leave = tick && last && ((ph != `TWH_PH_IDLE) || (pending && pend_q)); // next phase loads
     wire [2:0] f_nph   = (ph == `TWH_PH_IDLE) ? `TWH_PH_CHARGE : ph + 3'd1;
 
     // ------------------------------------------------ the command and its result
@@ -552,9 +568,14 @@ module twh_link #(
             // engine sends exactly what was accepted
             if (pending || f_txn) begin
                 assert(f_skip == 4'd0);
-                assert(cmd_r == f_code && pay_r == f_pay && tag_r == f_tag);
+                assert(cmd_r == f_code && tag_r == f_tag &&
+                       pay_r == {f_long ? f_pay[15:8] : 8'd0, f_pay[7:0]});
             end
+            // the checksum's two stages are current once pending has
+            // lasted a clock, and for the whole transaction
+            if ((pending && pend_q) || f_txn) assert(tx_psum == cmd_r + pay_r[7:0]);
             if (f_txn) assert(chk_r == f_chk);
+            if (pend_q) assert(pending || f_txn);
             // the result belongs to the last accepted command: a skipped one
             // gets its skip status and no data; a sent one a link status
             if (m_res_valid) begin
@@ -567,9 +588,11 @@ module twh_link #(
                         assert(m_res_data == 16'd0);
                 end
             end
-            // the registered checksum verdict is never stale when used
-            if (tick && last && ph == `TWH_PH_LISTEN)
-                assert(rx_chk_ok == (rx_chk == rx_bytes[7:0]));
+            // with three bytes in, the expected checksum is that of the
+            // first two, and the registered verdict is never stale when used
+            if (rx_n == 2'd3) assert(rx_exp == f_rx_chk);
+            if (tick && last && ph == `TWH_PH_LISTEN && rx_n == 2'd3)
+                assert(rx_chk_ok == (f_rx_chk == rx_bytes[7:0]));
         end
     end
 
@@ -598,9 +621,10 @@ module twh_link #(
                        $past(tick && last && ph == `TWH_PH_LISTEN));
             // progress: while a command is outstanding and not answered,
             // every tick moves the sequencer strictly forward (a later phase,
-            // or fewer ticks left), so its result comes within at most
-            // 2000 + 6 x 65535 ticks
-            if ($past(tick && (pending || f_txn)))
+            // or fewer ticks left) but for at most one right after the accept
+            // (pend_q follows pending a clock later), so its result comes
+            // within at most 2001 + 6 x 65535 ticks
+            if ($past(tick && ((pending && pend_q) || f_txn)))
                 assert({ph, ~cnt} > $past({ph, ~cnt}));
         end
     end
