@@ -10,7 +10,7 @@
 # Phase 2 (twh_link, twh_channel, twh_core) adds its .sby files and jobs here.
 
 FORMAL_JOBS ?= \
-    twh_sync2:prove \
+    twh_sync2:prove twh_window:prove \
     twh_fifo:prove_d4 twh_fifo:prove_d2 twh_fifo:cover_d4 \
     twh_wb:prove twh_wb:prove_abort twh_wb:cover \
     twh_axil:prove twh_axil:cover \
