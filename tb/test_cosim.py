@@ -121,7 +121,10 @@ def libtwh():
     return T.LIB_PATH
 
 
-@pytest.mark.parametrize("testcase", ["driver_session", "driver_errors"])
+# driver_errors (every error path through the driver, about 210 s of CPU)
+# carries the marker slow: make test-slow runs it, in CI
+@pytest.mark.parametrize("testcase", ["driver_session",
+                                      pytest.param("driver_errors", marks=pytest.mark.slow)])
 def test_cosim(libtwh, testcase):
     simrun.run("tb_core", "test_cosim", f"cosim_{testcase}",
                parameters={"CLK_HZ": 4_000_000, "CHANNELS": 3, "FIFO_DEPTH": 16, "BUS": 0},
