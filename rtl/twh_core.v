@@ -147,6 +147,8 @@ module twh_core #(
     reg [3:0]  q_wt;             // channel register 0-3 of an existing channel addressed
     reg [CHANNELS-1:0] q_ch;     // a write to this channel's block (one-hot)
     reg        q_ctrl, q_flush, q_errors, q_irq_en, q_poll_ready, q_push, q_pop, q_lab_key, q_fact_key;
+    reg        q_push_ch;        // q_push naming an existing channel: the FIFO's push
+                                 // waits for the full flag alone (ECP5's critical path)
     reg [8:0]  q_addr;
     reg [31:0] q_wdata;
     always @(posedge clk) begin
@@ -185,6 +187,8 @@ module twh_core #(
         q_irq_en     <= !rst && i_wr && !i_is_ch && i_g == R_IRQ_EN;
         q_poll_ready <= !rst && i_wr && !i_is_ch && i_g == R_POLL_READY;
         q_push       <= !rst && i_wr && !i_is_ch && i_g == R_CMD_PUSH;
+        q_push_ch    <= !rst && i_wr && !i_is_ch && i_g == R_CMD_PUSH &&
+                        ({1'b0, reg_wdata[26:24]} < CH_COUNT);
         q_pop        <= !rst && i_grd && i_g == R_RES_POP;
         q_lab_key    <= !rst && i_wr && !i_is_ch && i_g == R_LAB_KEY;
         q_fact_key   <= !rst && i_wr && !i_is_ch && i_g == R_FACTORY_KEY;
@@ -213,6 +217,10 @@ module twh_core #(
     reg [LW-1:0] flush_left;    // queued commands a flush still has to cancel
     reg        flushing;        // flush_left != 0, kept as a flag: it steers dispatch
     wire [LW-1:0] flush_new = cmd_level - {{(LW-1){1'b0}}, dispatch};   // what a flush now cancels
+    // flush_new != 0, with dispatch as the last choice rather than through
+    // the subtraction (it was ECP5's critical path)
+    wire       flush_new_nz = dispatch ? (cmd_level != {{(LW-1){1'b0}}, 1'b1})
+                                       : (cmd_level != {LW{1'b0}});
     reg [7:0]  idle_charge;
     reg        ie_result, ie_error, ie_poll;
     reg [7:0]  res_threshold;
@@ -228,7 +236,7 @@ module twh_core #(
     wire [LW-1:0] cmd_level;
     wire [32:0] cmd_head;
     wire        push_bad_ch = q_bad_ch;      // the pushed word names no channel
-    wire        push_ok   = push_req && !push_bad_ch && !cmd_full;
+    wire        push_ok   = q_push_ch && !cmd_full;
 
     wire        p_blocked = q_factory && !factory_armed;
 
@@ -397,7 +405,7 @@ module twh_core #(
                 enable      <= q_wdata[0];
                 if (q_wdata[1]) begin
                     flush_left <= flush_new;
-                    flushing   <= (flush_new != {LW{1'b0}});
+                    flushing   <= flush_new_nz;
                 end
                 idle_charge <= q_wdata[15:8];
             end
@@ -550,6 +558,7 @@ module twh_core #(
             // the flag is the count's
             assert(flushing == (flush_left != {LW{1'b0}}));
             assert(q_bad_ch == ({1'b0, q_wdata[26:24]} >= CH_COUNT));
+            assert(q_push_ch == (q_push && !q_bad_ch));
             assert(q_ctrl == (wr && !is_ch && g_reg == R_CTRL) &&
                    q_flush == (wr && !is_ch && g_reg == R_CTRL && q_wdata[1]) &&
                    q_errors == (wr && !is_ch && g_reg == R_ERRORS) &&

@@ -89,7 +89,7 @@ module twh_link #(
     // enable is a flip-flop (it resets the whole receiver), and the first
     // carrier tick of the phase is a whole period away.
     reg rx_en;
-    always @(posedge clk) rx_en <= !rst && (ph == `TWH_PH_LISTEN);
+    always @(posedge clk) rx_en <= !rst && ph_oh[`TWH_PH_LISTEN];
     twh_rx u_rx (
         .clk(clk), .rst(rst), .en(rx_en), .tick(tick), .env(env),
         .nbytes(rx_n), .bytes(rx_bytes), .started(rx_started),
@@ -175,26 +175,31 @@ module twh_link #(
     reg [15:0] nx_v, pick_v;
     reg [2:0]  nx_w;                // which window applies (W_NONE: fixed length)
     reg        nx_b, nx_a;          // the value lies below / above that window
+    // ph_oh is ph one-hot, a register of its own that moves with ph: the
+    // pick is then an AND-OR of its bits, with none of ph's fanout and no
+    // decode in front of it (ECP5's critical path started at ph).
+    reg [7:0]  ph_oh;
     always @(*) begin
-        case (ph)
-            `TWH_PH_IDLE:     begin nx_v = cfg_charge_us;     nx_w = W_CHARGE;   end
-            `TWH_PH_CHARGE:   begin nx_v = cfg_sync_us;       nx_w = W_SYNC;     end
-            `TWH_PH_SYNC:     begin nx_v = cfg_preamble_us;   nx_w = W_PREAMBLE; end
-            `TWH_PH_PREAMBLE: begin nx_v = cmd_r[7] ? 16'd1408 : 16'd1056; nx_w = W_NONE; end  // 44 / 33 bits of 32 us
-            `TWH_PH_COMMAND:  begin nx_v = cfg_execute_us;    nx_w = W_EXECUTE;  end
-            `TWH_PH_EXECUTE:  begin nx_v = cfg_listen_us;     nx_w = W_LISTEN;   end
-            `TWH_PH_LISTEN:   begin nx_v = cfg_turnaround_us; nx_w = W_TURN;     end
-            default:          begin nx_v = 16'd1;             nx_w = W_NONE;     end   // idle: no hold-off after a turnaround
-        endcase
-        case (nx_w)
-            W_CHARGE:   begin nx_b = cfg_below[0]; nx_a = cfg_above[0]; end
-            W_SYNC:     begin nx_b = cfg_below[1]; nx_a = cfg_above[1]; end
-            W_PREAMBLE: begin nx_b = cfg_below[2]; nx_a = cfg_above[2]; end
-            W_EXECUTE:  begin nx_b = cfg_below[3]; nx_a = cfg_above[3]; end
-            W_LISTEN:   begin nx_b = cfg_below[4]; nx_a = cfg_above[4]; end
-            W_TURN:     begin nx_b = cfg_below[5]; nx_a = cfg_above[5]; end
-            default:    begin nx_b = 1'b0;         nx_a = 1'b0;         end
-        endcase
+        nx_v = ({16{ph_oh[`TWH_PH_IDLE]}}     & cfg_charge_us)
+             | ({16{ph_oh[`TWH_PH_CHARGE]}}   & cfg_sync_us)
+             | ({16{ph_oh[`TWH_PH_SYNC]}}     & cfg_preamble_us)
+             | ({16{ph_oh[`TWH_PH_PREAMBLE]}} & (cmd_r[7] ? 16'd1408 : 16'd1056))  // 44 / 33 bits of 32 us
+             | ({16{ph_oh[`TWH_PH_COMMAND]}}  & cfg_execute_us)
+             | ({16{ph_oh[`TWH_PH_EXECUTE]}}  & cfg_listen_us)
+             | ({16{ph_oh[`TWH_PH_LISTEN]}}   & cfg_turnaround_us)
+             | {15'd0, ph_oh[`TWH_PH_TURNAROUND]};   // idle: no hold-off after a turnaround
+        nx_w = ({3{ph_oh[`TWH_PH_IDLE]}}    & W_CHARGE)
+             | ({3{ph_oh[`TWH_PH_CHARGE]}}  & W_SYNC)
+             | ({3{ph_oh[`TWH_PH_SYNC]}}    & W_PREAMBLE)
+             | ({3{ph_oh[`TWH_PH_COMMAND]}} & W_EXECUTE)
+             | ({3{ph_oh[`TWH_PH_EXECUTE]}} & W_LISTEN)
+             | ({3{ph_oh[`TWH_PH_LISTEN]}}  & W_TURN);
+        nx_b = (ph_oh[`TWH_PH_IDLE]    & cfg_below[0]) | (ph_oh[`TWH_PH_CHARGE]  & cfg_below[1])
+             | (ph_oh[`TWH_PH_SYNC]    & cfg_below[2]) | (ph_oh[`TWH_PH_COMMAND] & cfg_below[3])
+             | (ph_oh[`TWH_PH_EXECUTE] & cfg_below[4]) | (ph_oh[`TWH_PH_LISTEN]  & cfg_below[5]);
+        nx_a = (ph_oh[`TWH_PH_IDLE]    & cfg_above[0]) | (ph_oh[`TWH_PH_CHARGE]  & cfg_above[1])
+             | (ph_oh[`TWH_PH_SYNC]    & cfg_above[2]) | (ph_oh[`TWH_PH_COMMAND] & cfg_above[3])
+             | (ph_oh[`TWH_PH_EXECUTE] & cfg_above[4]) | (ph_oh[`TWH_PH_LISTEN]  & cfg_above[5]);
     end
     // The window picked (W_NONE under the lab unlock: at least 1, no upper
     // bound) travels as its code; its bounds are constants of the code.
@@ -218,9 +223,12 @@ module twh_link #(
         pick_w <= cfg_unlock ? W_NONE : nx_w;
         pick_b <= !cfg_unlock && nx_b;
         pick_a <= !cfg_unlock && nx_a;
-        if (pick_b || (pick_free && pick_v == 16'd0)) dur_next <= w_lo;
-        else if (pick_a)                              dur_next <= w_hi;
-        else                                          dur_next <= pick_v;
+        // a free value of zero becomes 1, which differs from it in bit 0
+        // alone: only that bit waits for the zero detect
+        if (pick_b)      dur_next <= w_lo;
+        else if (pick_a) dur_next <= w_hi;
+        else             dur_next <= {pick_v[15:1],
+                                      pick_v[0] | (pick_free && pick_v[15:1] == 15'd0)};
     end
 
     // cnt moves only on a carrier tick and ticks are a period (at least 4
@@ -229,9 +237,11 @@ module twh_link #(
     // path into the phase, bit and frame registers.
     reg last;          // cnt == 1: this period is the phase's last
     reg bit_end;       // a command bit's last period, not the phase's
+    reg byte_end;      // bit_end of a character's last (second stop) bit
     always @(posedge clk) begin
-        last    <= !rst && (cnt == 16'd1);
-        bit_end <= !rst && (ph == `TWH_PH_COMMAND) && (cnt[4:0] == 5'd1) && (cnt != 16'd1);
+        last     <= !rst && (cnt == 16'd1);
+        bit_end  <= !rst && ph_oh[`TWH_PH_COMMAND] && (cnt[4:0] == 5'd1) && (cnt != 16'd1);
+        byte_end <= !rst && (bitn == 4'd10);
     end
 
     // result of the listen phase, decided on its last tick
@@ -251,6 +261,7 @@ module twh_link #(
         if (rst) begin
             rdy         <= 1'b0;
             ph          <= `TWH_PH_IDLE;
+            ph_oh       <= 8'd1 << `TWH_PH_IDLE;
             // one more: the first tick after reset already counts, and the
             // line must rest at least the full minimum turnaround
             cnt         <= `TWH_TURNAROUND_MIN + 16'd1;
@@ -269,7 +280,7 @@ module twh_link #(
         end else begin
             if (m_res_valid && m_res_ready) m_res_valid <= 1'b0;
             pend_q <= pending;
-            rdy <= (ph == `TWH_PH_IDLE) && !pending && !m_res_valid && !accept;
+            rdy <= ph_oh[`TWH_PH_IDLE] && !pending && !m_res_valid && !accept;
 
             // The command is taken whole on every accept (the registers'
             // enables wait for nothing else); a skipped one is answered at
@@ -289,39 +300,43 @@ module twh_link #(
                 end
             end
 
-            if (tick) begin
-                if (ph == `TWH_PH_SYNC && !env)     saw_low  <= 1'b1;
-                if (ph == `TWH_PH_PREAMBLE && env)  saw_high <= 1'b1;
+            // a new UART bit starts every 32 periods of the command; bit_end
+            // is never set in a phase's last period, nor outside the command
+            if (tick && bit_end) begin
+                if (byte_end) begin
+                    bitn  <= 4'd0;
+                    byten <= byten + 1'b1;
+                end else begin
+                    bitn  <= bitn + 1'b1;
+                end
+            end
 
-                if (ph == `TWH_PH_IDLE) begin
+            if (tick) begin
+                if (ph_oh[`TWH_PH_SYNC] && !env)     saw_low  <= 1'b1;
+                if (ph_oh[`TWH_PH_PREAMBLE] && env)  saw_high <= 1'b1;
+
+                if (ph_oh[`TWH_PH_IDLE]) begin
                     if (!last) begin
                         cnt <= cnt - 1'b1;           // post-reset hold-off
                     end else if (pending && pend_q) begin
                         pending  <= 1'b0;
                         ph       <= `TWH_PH_CHARGE;
+                        ph_oh    <= {ph_oh[6:0], ph_oh[7]};
                         cnt      <= dur_next;
                         saw_low  <= 1'b0;
                         saw_high <= 1'b0;
                     end
                 end else if (!last) begin
                     cnt <= cnt - 1'b1;
-                    // a new UART bit starts every 32 periods of the command
-                    if (bit_end) begin
-                        if (bitn == 4'd10) begin
-                            bitn  <= 4'd0;
-                            byten <= byten + 1'b1;
-                        end else begin
-                            bitn  <= bitn + 1'b1;
-                        end
-                    end
                 end else begin
-                    ph  <= ph + 1'b1;                // phases run in code order
+                    ph    <= ph + 1'b1;              // phases run in code order
+                    ph_oh <= {ph_oh[6:0], ph_oh[7]};
                     cnt <= dur_next;
-                    if (ph == `TWH_PH_PREAMBLE) begin
+                    if (ph_oh[`TWH_PH_PREAMBLE]) begin
                         bitn  <= 4'd0;
                         byten <= 2'd0;
                     end
-                    if (ph == `TWH_PH_LISTEN) begin
+                    if (ph_oh[`TWH_PH_LISTEN]) begin
                         m_res_valid  <= 1'b1;
                         m_res_status <= rx_status;
                         m_res_data   <= rx_data_ok ? rx_bytes[23:8] : 16'd0;
@@ -374,7 +389,7 @@ module twh_link #(
     assign m_res_tag  = tag_r;
 
     assign phase = ph;
-    assign busy  = (ph != `TWH_PH_IDLE) || pending;
+    assign busy  = !ph_oh[`TWH_PH_IDLE] || pending;
 
 `ifdef FORMAL
     // ================================================================ formal
@@ -529,11 +544,13 @@ module twh_link #(
         if (f_ok) begin
             // ---- sequencer: the state the counts below rely on
             assert(cnt != 16'd0);
+            assert(ph_oh == (8'd1 << ph));
             // the registered decodes trail cnt by one clock only, and never
             // at a tick
             if (!tick_d && !rst) assert(last == (cnt == 16'd1) &&
                                         bit_end == (ph == `TWH_PH_COMMAND && cnt[4:0] == 5'd1 &&
-                                                    cnt != 16'd1));
+                                                    cnt != 16'd1) &&
+                                        byte_end == (bitn == 4'd10));
             assert(!(tick && tick_d));
             assert(f_ticks < f_dur);
             assert(cnt + f_ticks == f_dur);

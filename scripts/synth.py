@@ -56,7 +56,7 @@ def run(cmd, log):
         raise SystemExit(f"{cmd[0]} failed (log {log})")
 
 
-def synth(part, top, params, files, freq, out, constraints=None, pack=False):
+def synth(part, top, params, files, freq, out, constraints=None, pack=False, seed=1):
     fam = PARTS[part]["family"]
     (ROOT / rel(out)).mkdir(parents=True, exist_ok=True)
     out = Path(rel(out))            # relative to ROOT, where the tools run
@@ -78,7 +78,7 @@ def synth(part, top, params, files, freq, out, constraints=None, pack=False):
 
     pnr = [tool(f"yowasp-nextpnr-{fam}")] + PARTS[part]["pnr"] + [
         "--json", str(out / "design.json"), "--freq", str(freq),
-        "--report", str(out / "report.json"), "--seed", "1",
+        "--report", str(out / "report.json"), "--seed", str(seed),
         "--log", str(out / "nextpnr.log")]
     if fam == "ice40":
         if constraints:
@@ -134,13 +134,16 @@ def main():
     ap.add_argument("--files", nargs="*", help="sources (default rtl/twh_*.v)")
     ap.add_argument("--constraints", help=".pcf / .lpf")
     ap.add_argument("--out", help="work dir (default build/synth/<part>-<top>)")
+    ap.add_argument("--seed", type=int, default=1,
+                    help="nextpnr placer seed (make bench uses 1; others show the spread)")
     ap.add_argument("--json", action="store_true", help="print the result as JSON")
     ap.add_argument("--require-clean", action="store_true",
                     help="fail on a Yosys warning or a missed --freq (smoke runs)")
     a = ap.parse_args()
     params = dict(p.split("=", 1) for p in a.param)
     out = a.out or ROOT / "build" / "synth" / f"{a.part}-{a.top}-{'-'.join(a.param) or 'default'}"
-    r = synth(a.part, a.top, params, a.files or core_sources(), a.freq, out, a.constraints)
+    r = synth(a.part, a.top, params, a.files or core_sources(), a.freq, out, a.constraints,
+              seed=a.seed)
     if a.json:
         print(json.dumps(r))
     else:
