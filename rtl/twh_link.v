@@ -82,6 +82,10 @@ module twh_link #(
     );
 
     reg  [2:0]  ph;
+    // ph one-hot, a register of its own that moves with ph: the phase tests
+    // and the next-length pick read its bits, with none of ph's fanout and
+    // no decode in front of them (ECP5's critical path started at ph)
+    reg  [7:0]  ph_oh;
     wire [1:0]  rx_n;
     wire [23:0] rx_bytes;
     wire        rx_started, rx_frame_err;
@@ -175,10 +179,7 @@ module twh_link #(
     reg [15:0] nx_v, pick_v;
     reg [2:0]  nx_w;                // which window applies (W_NONE: fixed length)
     reg        nx_b, nx_a;          // the value lies below / above that window
-    // ph_oh is ph one-hot, a register of its own that moves with ph: the
-    // pick is then an AND-OR of its bits, with none of ph's fanout and no
-    // decode in front of it (ECP5's critical path started at ph).
-    reg [7:0]  ph_oh;
+    // the pick below is an AND-OR of ph_oh's bits
     always @(*) begin
         nx_v = ({16{ph_oh[`TWH_PH_IDLE]}}     & cfg_charge_us)
              | ({16{ph_oh[`TWH_PH_CHARGE]}}   & cfg_sync_us)
