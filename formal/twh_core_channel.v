@@ -43,7 +43,6 @@ module twh_channel #(
     output wire [31:0] poll_ctrl,
     output wire [31:0] poll_result,
     output wire [31:0] state,
-    output wire        value_refused,
     output reg         poll_sample,
     output reg         poll_error,
     input  wire        slot_load,
@@ -69,7 +68,7 @@ module twh_channel #(
     (* anyseq *) reg [15:0] f_data;
     (* anyseq *) reg [31:0] f_t2, f_pc, f_pr;
     (* anyseq *) reg [2:0]  f_phase;
-    (* anyseq *) reg        f_refused, f_sample, f_perr, f_line_o, f_line_oe;
+    (* anyseq *) reg        f_sample, f_perr, f_line_o, f_line_oe;
 
     reg [7:0] s_cmd;
     reg [4:0] s_tag;
@@ -119,7 +118,6 @@ module twh_channel #(
         poll_error    <= f_perr;
     end
 
-    assign value_refused = f_refused;     // combinational, as in twh_channel
     assign busy        = eng;
     assign timing0     = {15'd0, s_skip, s_tag, s_cmd};
     assign timing1     = {15'd0, e_skip, e_tag, e_cmd};

@@ -3,8 +3,8 @@
 // twh_link engine.
 //
 // - Timing writes are refused as a whole when a field lies outside the spec
-//   window (unless the lab unlock is on): the register keeps its value and
-//   `value_refused` is raised. The verdict is the core's (`wdata_ok`). The
+//   window (unless the lab unlock is on): the register keeps its value. The
+//   verdict is the core's (`wdata_ok`), and so is the REFUSED error. The
 //   engine clamps as well, as a last defence (a value taken under the lab
 //   unlock runs clamped once it is off): each field keeps the core's window
 //   flags (`wdata_cmp`) beside it, and the engine clamps by them.
@@ -43,7 +43,6 @@ module twh_channel #(
     output wire [31:0] poll_ctrl,
     output wire [31:0] poll_result,
     output wire [31:0] state,
-    output wire        value_refused,  // same clock as the refused write
     output reg         poll_sample,    // a poll result arrived
     output reg         poll_error,     // ... and it was a link error
     // command slot
@@ -85,11 +84,6 @@ module twh_channel #(
     // verdicts, one per register.
     wire ok0 = wdata_ok[0], ok1 = wdata_ok[1], ok2 = wdata_ok[2], ok_poll = wdata_ok[3];
 
-    // combinational, so the core's ERRORS bit is set in the same clock the
-    // register would have taken the value
-    assign value_refused = (wr_timing0 && !ok0) || (wr_timing1 && !ok1) ||
-                           (wr_timing2 && !ok2) || (wr_poll_ctrl && !ok_poll);
-
     always @(posedge clk) begin
         if (rst) begin
             t_charge      <= `TWH_CHARGE_DEF;
@@ -127,9 +121,14 @@ module twh_channel #(
     end
 
     // ------------------------------------------------------------ poll timer
+    // Milliseconds to the next poll, this one included. It reloads at 1 or
+    // below, so a reload of 0 (an interval of 0) polls at the next
+    // millisecond, as an interval of 1 does, with no fix-up in front of the
+    // reload. Whether it is at 1 or below is a flag that moves with it: the
+    // compare is off the path into the counter (ECP5's critical path).
     reg [14:0] poll_timer;
+    reg        poll_last;     // poll_timer <= 1
     reg        poll_due;
-    wire [14:0] interval = (poll_interval == 15'd0) ? 15'd1 : poll_interval;
 
     // ------------------------------------------------------------ slot and arbitration
     reg [7:0]  slot_cmd;
@@ -157,6 +156,7 @@ module twh_channel #(
             slot_skip    <= 4'd0;
             prefer_poll  <= 1'b0;
             poll_timer   <= 15'd1;
+            poll_last    <= 1'b1;
             poll_due     <= 1'b0;
             issue_q      <= 1'b0;
             use_poll_q   <= 1'b0;
@@ -180,14 +180,17 @@ module twh_channel #(
 
             if (!poll_en) begin
                 poll_timer <= 15'd1;          // first poll at the next millisecond
+                poll_last  <= 1'b1;
                 poll_due   <= 1'b0;
             end else begin
                 if (ms_tick) begin
-                    if (poll_timer <= 15'd1) begin
-                        poll_timer <= interval;
+                    if (poll_last) begin
+                        poll_timer <= poll_interval;
+                        poll_last  <= (poll_interval <= 15'd1);
                         poll_due   <= 1'b1;
                     end else begin
                         poll_timer <= poll_timer - 1'b1;
+                        poll_last  <= (poll_timer == 15'd2);
                     end
                 end
                 if (taken && use_poll_q) poll_due <= 1'b0;
@@ -302,15 +305,12 @@ module twh_channel #(
         f_win2 = v[15:0] >= 16'd2000 && v[31:16] >= 16'd2000;
     endfunction
 
-    // Whether a write of wdata must be taken (and so whether one this clock
-    // must be refused). Wires, not function calls under $past: Yosys 0.70
+    // Whether a write of wdata must be taken. Wires, not function calls under $past: Yosys 0.70
     // evaluates a function call inside $past on the current arguments.
     wire f_take0 = lab || f_win0(wdata);
     wire f_take1 = lab || f_win1(wdata);
     wire f_take2 = lab || f_win2(wdata);
     wire f_takep = !wdata[31] || f_ro(wdata[7:0]);
-    wire f_refuse = (wr_timing0 && !f_take0) || (wr_timing1 && !f_take1) ||
-                    (wr_timing2 && !f_take2) || (wr_poll_ctrl && !f_takep);
     // the core's verdict is right for the register written (proven on the
     // core: twh_core's f_cw_ok)
     // and so are its window flags (twh_core's f_cmp)
@@ -367,9 +367,8 @@ module twh_channel #(
                    {f_fl(t_execute, 16'd3500, 16'd10000), f_fl(t_preamble, 16'd1800, 16'd2200)});
             assert({t_above[5], t_below[5], t_above[4], t_below[4]} ==
                    {f_fl(t_turnaround, 16'd2000, 16'hFFFF), f_fl(t_listen, 16'd2000, 16'hFFFF)});
-            // a refused write is flagged in its own clock (the verdict is
-            // the core's, assumed right outside reset)
-            if (!rst) assert(value_refused == f_refuse);
+            // the timer's flag is its compare
+            assert(poll_last == (poll_timer <= 15'd1));
             // the poller is only ever armed with, and only ever hands the
             // engine, a read-only command
             if (poll_en) assert(f_ro(poll_cmd));
@@ -384,7 +383,7 @@ module twh_channel #(
     always @(posedge clk) begin
         if (f_run) begin
             // a timing write is taken whole when in the window (or lab),
-            // otherwise refused whole, with value_refused
+            // otherwise refused whole
             if ($past(wr_timing0))
                 assert(timing0 == ($past(f_take0) ? $past(wdata) : $past(timing0)));
             if ($past(wr_timing1))

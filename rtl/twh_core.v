@@ -129,7 +129,8 @@ module twh_core #(
     always @(posedge clk) begin
         for (i_n = 0; i_n < CHANNELS; i_n = i_n + 1) begin
             q_ch[i_n]   <= !rst && i_wr && (i_blk[2:0] == i_n[2:0]);
-            q_r_ch[i_n] <= (i_blk[2:0] == i_n[2:0]);  // q_r_creg says whether it is read
+            q_r_cr[i_n*6 +: 6] <= (!rst && i_rd && i_ch_ok && reg_addr[4:2] <= 3'd5 &&
+                                   i_blk[2:0] == i_n[2:0]) ? 6'b000001 << reg_addr[4:2] : 6'b000000;
         end
     end
 
@@ -137,13 +138,23 @@ module twh_core #(
     reg        q_wr, q_rd, q_mapped, q_bad_ch;
     // Read selects, one per register a read shows (none for write-only or
     // unmapped addresses): the answer is an AND-OR of flip-flops with no
-    // address decode in front of it. RES_POP's is q_pop.
+    // address decode in front of it. RES_INFO's and RES_POP's carry "the
+    // result FIFO is not empty" too (q_pop is RES_POP's pop).
     reg        q_r_id, q_r_version, q_r_params, q_r_ctrl, q_r_status, q_r_levels,
-               q_r_errors, q_r_irq_en, q_r_irq_status, q_r_poll_ready, q_r_res_info;
-    reg [5:0]  q_r_creg;         // channel register 0-5 of an existing channel read ...
-    reg [CHANNELS-1:0] q_r_ch;   // ... and that channel (one-hot)
+               q_r_errors, q_r_irq_en, q_r_irq_status, q_r_poll_ready, q_r_res_info,
+               q_r_res_pop;
+    // channel n's register k (0-5) read: one flag per pair, so each term of
+    // the read is one select and one register bit
+    reg [CHANNELS*6-1:0] q_r_cr;
     reg [3:0]  q_cmp;            // i_cmp of the request
+    reg        q_cmp_nz;         // ... not all zero: a field lies outside its window
     reg        q_win_p;          // i_win_p of the request
+    // The REFUSED verdict's parts, taken on the way in so that the error
+    // bit waits only for the lab unlock (the window flags' OR into it was
+    // HX8K's critical path): a write to TIMING0-2 of an existing channel,
+    // and a POLL_CTRL write there that must be refused (lab does not
+    // apply to it).
+    reg        q_wr_t, q_ref_p;
     reg [3:0]  q_wt;             // channel register 0-3 of an existing channel addressed
     reg [CHANNELS-1:0] q_ch;     // a write to this channel's block (one-hot)
     reg        q_ctrl, q_flush, q_errors, q_irq_en, q_poll_ready, q_push, q_pop, q_lab_key, q_fact_key;
@@ -151,6 +162,7 @@ module twh_core #(
                                  // waits for the full flag alone (ECP5's critical path)
     reg [8:0]  q_addr;
     reg [31:0] q_wdata;
+    wire       res_valid_next;   // the result FIFO's !empty of the next clock
     always @(posedge clk) begin
         q_req      <= !rst && reg_req;
         q_wr       <= !rst && i_wr;
@@ -160,13 +172,14 @@ module twh_core #(
         q_addr     <= reg_addr;
         q_wdata    <= reg_wdata;
         q_cmp      <= i_cmp;
+        q_cmp_nz   <= (i_cmp != 4'd0);
         q_win_p    <= i_win_p;
+        q_wr_t     <= !rst && i_wr && i_ch_ok && reg_addr[4:2] <= 3'd2;
+        q_ref_p    <= !rst && i_wr && i_ch_ok && reg_addr[4:2] == 3'd3 && !i_win_p;
         q_key_lab  <= (reg_wdata == `TWH_LAB_KEY);
         q_key_fact <= (reg_wdata == `TWH_FACTORY_KEY);
         q_factory  <= i_factory;
         q_bad_ch   <= {1'b0, reg_wdata[26:24]} >= CH_COUNT;
-        q_r_creg   <= (!rst && i_rd && i_ch_ok && reg_addr[4:2] <= 3'd5) ? 6'b000001 << reg_addr[4:2]
-                                                                         : 6'b000000;
         q_r_id         <= !rst && i_grd && i_g == R_ID;
         q_r_version    <= !rst && i_grd && i_g == R_VERSION;
         q_r_params     <= !rst && i_grd && i_g == R_PARAMS;
@@ -177,7 +190,11 @@ module twh_core #(
         q_r_irq_en     <= !rst && i_grd && i_g == R_IRQ_EN;
         q_r_irq_status <= !rst && i_grd && i_g == R_IRQ_STATUS;
         q_r_poll_ready <= !rst && i_grd && i_g == R_POLL_READY;
-        q_r_res_info   <= !rst && i_grd && i_g == R_RES_INFO;
+        // masked on the way in by "not empty" as the FIFO will be when
+        // the read is carried out (an empty FIFO's fields read zero), so
+        // neither the empty flag nor its AND is on the read path
+        q_r_res_info   <= !rst && i_grd && i_g == R_RES_INFO && res_valid_next;
+        q_r_res_pop    <= !rst && i_grd && i_g == R_RES_POP && res_valid_next;
         q_mapped   <= i_is_ch ? (i_ch_ok && reg_addr[4:2] <= 3'd5) : (i_g != 4'd15);
         q_wt       <= (i_ch_ok && reg_addr[4:2] <= 3'd3) ? 4'b0001 << reg_addr[3:2] : 4'b0000;
         // write (or, for RES_POP, read) strobes of the global registers
@@ -233,6 +250,9 @@ module twh_core #(
     // the FIFO's RAM output drives no comparator on its way to the slot.
     wire        push_req  = q_push;
     wire        cmd_full, cmd_empty;
+    // verilator lint_off UNUSEDSIGNAL
+    wire        cmd_valid_next;       // the command FIFO is read by dispatch alone
+    // verilator lint_on UNUSEDSIGNAL
     wire [LW-1:0] cmd_level;
     wire [32:0] cmd_head;
     wire        push_bad_ch = q_bad_ch;      // the pushed word names no channel
@@ -254,21 +274,25 @@ module twh_core #(
     // from a flip-flop. The head and its slot cannot change in between.
     reg  dispatch;
     reg  [2:0] disp_ch;
+    reg        disp_blk;     // h_blocked, taken with the decision like disp_ch
+                             // (the RAM output was HX8K's path into BLOCKED)
     always @(posedge clk) begin
         if (rst) dispatch <= 1'b0;
         else     dispatch <= !dispatch && !cmd_empty && (enable || flushing) && h_slot_free;
-        disp_ch <= h_ch;
+        disp_ch  <= h_ch;
+        disp_blk <= h_blocked;
     end
     // a flush written in the clock a command is dispatched cancels it too:
     // it was queued when the flush came (the slot's cancel misses it)
     wire       flush_wr = q_flush;
     wire [3:0] h_skip = (flushing || flush_wr) ? `TWH_ST_CANCELLED :
-                        h_blocked              ? `TWH_ST_BLOCKED : 4'd0;
+                        disp_blk               ? `TWH_ST_BLOCKED : 4'd0;
 
     twh_fifo #(.W(33), .DEPTH(FIFO_DEPTH)) u_cmd_fifo (
         .clk(clk), .rst(rst),
         .push(push_ok), .din({p_blocked, q_wdata}), .full(cmd_full),
-        .pop(dispatch), .dout(cmd_head), .empty(cmd_empty), .level(cmd_level)
+        .pop(dispatch), .dout(cmd_head), .empty(cmd_empty), .valid_next(cmd_valid_next),
+        .level(cmd_level)
     );
 
     // ------------------------------------------------------------ result FIFO
@@ -293,7 +317,8 @@ module twh_core #(
         .din({c_res_tag[scan*5 +: 5], scan, push_status,
               c_res_cmd[scan*8 +: 8], c_res_data[scan*16 +: 16]}),
         .full(res_full),
-        .pop(pop_req), .dout(res_head), .empty(res_empty), .level(res_level)
+        .pop(pop_req), .dout(res_head), .empty(res_empty), .valid_next(res_valid_next),
+        .level(res_level)
     );
 
     always @(posedge clk) begin
@@ -303,14 +328,16 @@ module twh_core #(
 
     // ------------------------------------------------------------ channels
     wire [CHANNELS*32-1:0] c_t0, c_t1, c_t2, c_pc, c_pr, c_st;
-    wire [CHANNELS-1:0] c_refused, c_sample, c_poll_err, c_busy;
+    wire [CHANNELS-1:0] c_sample, c_poll_err, c_busy;
 
     // A channel register write starts from the request stage: its value's
     // window flags were taken on the way in, for the register addressed (the
     // only one whose strobe is raised); the lab unlock applies now, so a
     // LAB_KEY write just ahead counts.
-    wire       cw_in = (q_cmp == 4'd0);
+    wire       cw_in = !q_cmp_nz;
     wire [3:0] cw_ok = {q_win_p, {3{lab || cw_in}}};
+    // the write the channel does not take, in the clock it would have
+    wire       refused = (q_wr_t && q_cmp_nz && !lab) || q_ref_p;
 
     genvar n;
     generate
@@ -327,7 +354,7 @@ module twh_core #(
                 .timing0(c_t0[n*32 +: 32]), .timing1(c_t1[n*32 +: 32]),
                 .timing2(c_t2[n*32 +: 32]), .poll_ctrl(c_pc[n*32 +: 32]),
                 .poll_result(c_pr[n*32 +: 32]), .state(c_st[n*32 +: 32]),
-                .value_refused(c_refused[n]), .poll_sample(c_sample[n]),
+                .poll_sample(c_sample[n]),
                 .poll_error(c_poll_err[n]),
                 .slot_load(dispatch && disp_ch == n),
                 .slot_cmd_i(h_cmd), .slot_payload_i(h_payload), .slot_tag_i(h_tag),
@@ -428,8 +455,8 @@ module twh_core #(
             // hardware sets win over a clear in the same clock
             if (push_req && cmd_full && !push_bad_ch) err_overflow <= 1'b1;
             if (push_req && push_bad_ch)              err_bad_channel <= 1'b1;
-            if (|c_refused)                           err_refused <= 1'b1;
-            if (dispatch && h_blocked && !flushing && !flush_wr) err_blocked <= 1'b1;   // h_skip BLOCKED
+            if (refused)                              err_refused <= 1'b1;
+            if (dispatch && disp_blk && !flushing && !flush_wr) err_blocked <= 1'b1;   // h_skip BLOCKED
             if (push_link_err || |c_poll_err)         err_link <= 1'b1;
             poll_ready <= ((q_poll_ready) ? (poll_ready & ~q_wdata[7:0])
                                                                   : poll_ready) | sample8;
@@ -452,8 +479,8 @@ module twh_core #(
 
     // An empty FIFO's output register holds stale data: its fields read
     // zero (the select is masked, not the word).
-    wire        r_res_info = q_r_res_info && !res_empty;
-    wire        r_res_pop  = q_pop && !res_empty;
+    wire        r_res_info = q_r_res_info;
+    wire        r_res_pop  = q_r_res_pop;
     wire [31:0] g_rdata =
           ({32{q_r_id}}         & `TWH_MAGIC)
         | ({32{q_r_version}}    & {factory_armed, lab, 10'd0, CH_COUNT,
@@ -477,10 +504,10 @@ module twh_core #(
     always @(*) begin
         c_rdata = 32'd0;
         for (r_n = 0; r_n < CHANNELS; r_n = r_n + 1)
-            c_rdata = c_rdata | ({32{q_r_ch[r_n]}} &
-                  (({32{q_r_creg[0]}} & c_t0[r_n*32 +: 32]) | ({32{q_r_creg[1]}} & c_t1[r_n*32 +: 32])
-                 | ({32{q_r_creg[2]}} & c_t2[r_n*32 +: 32]) | ({32{q_r_creg[3]}} & c_pc[r_n*32 +: 32])
-                 | ({32{q_r_creg[4]}} & c_pr[r_n*32 +: 32]) | ({32{q_r_creg[5]}} & c_st[r_n*32 +: 32])));
+            c_rdata = c_rdata
+                | ({32{q_r_cr[r_n*6 + 0]}} & c_t0[r_n*32 +: 32]) | ({32{q_r_cr[r_n*6 + 1]}} & c_t1[r_n*32 +: 32])
+                | ({32{q_r_cr[r_n*6 + 2]}} & c_t2[r_n*32 +: 32]) | ({32{q_r_cr[r_n*6 + 3]}} & c_pc[r_n*32 +: 32])
+                | ({32{q_r_cr[r_n*6 + 4]}} & c_pr[r_n*32 +: 32]) | ({32{q_r_cr[r_n*6 + 5]}} & c_st[r_n*32 +: 32]);
     end
 
     always @(posedge clk) begin
@@ -548,6 +575,9 @@ module twh_core #(
         if (f_rs && f_h) begin
             if (wr && ch_exists && ch_reg <= 3'd3) assert(cw_ok[ch_reg[1:0]] == f_cw_ok);
             if (wr && ch_exists && ch_reg <= 3'd2) assert(q_cmp == f_cmp);
+            assert(q_cmp_nz == (q_cmp != 4'd0));
+            // REFUSED is raised by exactly the channel writes not taken
+            assert(refused == (wr && ch_exists && ch_reg <= 3'd3 && !f_cw_ok));
             // the decode taken on the way in is that of the request's own
             // address and data
             assert(q_wr == (q_req && q_we && q_full) && q_rd == (q_req && !q_we));
@@ -568,6 +598,8 @@ module twh_core #(
                    q_pop == (rd && !is_ch && g_reg == R_RES_POP) &&
                    q_lab_key == (wr && !is_ch && g_reg == R_LAB_KEY) &&
                    q_fact_key == (wr && !is_ch && g_reg == R_FACTORY_KEY));
+            assert(q_r_res_info == (rd && !is_ch && g_reg == R_RES_INFO && !res_empty));
+            assert(q_r_res_pop  == (rd && !is_ch && g_reg == R_RES_POP && !res_empty));
             assert(q_key_lab  == (q_wdata == 32'h4C414221));
             assert(q_key_fact == (q_wdata == 32'h46414354));
         end
@@ -619,6 +651,15 @@ module twh_core #(
         f_rdata_q <= f_rdata;
     end
     always @(*) if (f_chk_rd) assert(reg_rdata == f_rdata_q);
+
+    // REFUSED rises only with a refused write and always with one (a clear
+    // written in the same clock loses)
+    always @(posedge clk) begin
+        if (f_rs && f_h && !rst && !$past(rst)) begin
+            if ($past(refused)) assert(err_refused);
+            if (err_refused && !$past(err_refused)) assert($past(refused));
+        end
+    end
 
 `ifdef TWH_F_CORE
     reg f_ok = 1'b0;
@@ -758,7 +799,7 @@ module twh_core #(
             // ---- dispatch: one word out of the FIFO, into a free slot of
             // the channel it names (the channel's own proof assumes this)
             if (dispatch)
-                assert(f_cf_ov && disp_ch == cmd_head[26:24] &&
+                assert(f_cf_ov && disp_ch == cmd_head[26:24] && disp_blk == cmd_head[32] &&
                        {1'b0, disp_ch} < CH_COUNT && !slot_full8[disp_ch]);
             for (f_k = 0; f_k < CHANNELS; f_k = f_k + 1)
                 if (c_res_valid[f_k]) assert(c_busy[f_k]);     // stand-in state

@@ -15,6 +15,7 @@ module twh_fifo #(
     input  wire                         pop,
     output reg  [W-1:0]                 dout,
     output wire                         empty,
+    output wire                         valid_next,  // !empty as it will be next clock
     output wire [$clog2(DEPTH+1)-1:0]   level
 );
     localparam integer AW = $clog2(DEPTH);
@@ -56,6 +57,8 @@ module twh_fifo #(
     wire do_push = push && !full;
     wire do_pop  = pop && out_valid;
     wire load    = !mem_empty && (!out_valid || do_pop);
+    // lets a user register a select already masked by "not empty"
+    assign valid_next = load || (out_valid && !do_pop);
     // up, down or held: the increment and the decrement run side by side
     // from the register, and push and pop only pick one
     wire [LW-1:0] level_up = level_r + 1'b1;
@@ -143,6 +146,8 @@ module twh_fifo #(
             if ($past(empty && level != 0)) assert(!empty);
             // no bubble: popping with more words stored shows the next at once
             if ($past(f_pop && level > 1)) assert(!empty);
+            // valid_next told what empty is now
+            assert($past(valid_next) == !empty);
         end
     end
 

@@ -164,7 +164,9 @@ module twh_link #(
     wire accept = s_cmd_valid && rdy;
 
     // ------------------------------------------------------------ sequencer
-    reg [15:0] cnt;        // periods left in this phase, this one included
+    reg [15:0] cnt;        // periods left in this phase, this one included; a
+                           // length of 0 (possible only under the lab unlock)
+                           // loads as 0 and counts as 1: `last` is cnt <= 1
     reg [15:0] dur_next;   // length of the phase after this one
     reg        saw_low;    // the line read low during sync
     reg        saw_high;   // the line read high during preamble
@@ -218,29 +220,27 @@ module twh_link #(
             default:    begin w_lo = 16'd1;               w_hi = `TWH_US_MAX;       end
         endcase
     end
-    wire pick_free = (pick_w == W_NONE);    // only zero lies outside 1..max
     always @(posedge clk) begin
         pick_v <= nx_v;
         pick_w <= cfg_unlock ? W_NONE : nx_w;
         pick_b <= !cfg_unlock && nx_b;
         pick_a <= !cfg_unlock && nx_a;
-        // a free value of zero becomes 1, which differs from it in bit 0
-        // alone: only that bit waits for the zero detect
+        // a free value of zero is loaded as it is: the counter takes it
+        // for 1 (no zero detect here: it was ECP5's critical path)
         if (pick_b)      dur_next <= w_lo;
         else if (pick_a) dur_next <= w_hi;
-        else             dur_next <= {pick_v[15:1],
-                                      pick_v[0] | (pick_free && pick_v[15:1] == 15'd0)};
+        else             dur_next <= pick_v;
     end
 
     // cnt moves only on a carrier tick and ticks are a period (at least 4
     // clocks) apart, so its decodes are registered: at every tick they are
     // those of the count as it stands, and the 16-bit compare is off the
     // path into the phase, bit and frame registers.
-    reg last;          // cnt == 1: this period is the phase's last
+    reg last;          // cnt <= 1: this period is the phase's last
     reg bit_end;       // a command bit's last period, not the phase's
     reg byte_end;      // bit_end of a character's last (second stop) bit
     always @(posedge clk) begin
-        last     <= !rst && (cnt == 16'd1);
+        last     <= !rst && (cnt[15:1] == 15'd0);
         bit_end  <= !rst && ph_oh[`TWH_PH_COMMAND] && (cnt[4:0] == 5'd1) && (cnt != 16'd1);
         byte_end <= !rst && (bitn == 4'd10);
     end
@@ -257,6 +257,17 @@ module twh_link #(
         else                           rx_status = `TWH_ST_NO_RESPONSE;
     end
     wire rx_data_ok = (rx_status == `TWH_ST_OK) || (rx_status == `TWH_ST_BAD_CHECKSUM);
+    // registered: the verdict's inputs settle within three clocks of a tick
+    // (rx_chk_ok is a register of the receiver's bytes), and a tick is at
+    // least four clocks from the next, so at the listen phase's last tick
+    // these are the verdict as it stands; the priority chain above is then
+    // off the path into the result registers (ECP5's critical path)
+    reg [3:0] rx_status_q;
+    reg       rx_data_ok_q;
+    always @(posedge clk) begin
+        rx_status_q  <= rx_status;
+        rx_data_ok_q <= rx_data_ok;
+    end
 
     always @(posedge clk) begin
         if (rst) begin
@@ -285,17 +296,21 @@ module twh_link #(
 
             // The command is taken whole on every accept (the registers'
             // enables wait for nothing else); a skipped one is answered at
-            // once and never touches the line.
+            // once and never touches the line. The result's status and data
+            // are loaded on every accept too (they are not valid until a
+            // result is, and a sent command's are loaded again when its
+            // listen phase ends), so only valid and pending wait for the
+            // skip decode.
             if (accept) begin
                 cmd_r <= s_cmd_code;
                 tag_r <= s_cmd_tag;
                 // a 3-byte command's unused payload byte is kept as zero,
                 // so the checksum adds both bytes with no choice in front
                 pay_r <= {s_cmd_code[7] ? s_cmd_payload[15:8] : 8'd0, s_cmd_payload[7:0]};
+                m_res_status <= s_cmd_skip;
+                m_res_data   <= 16'd0;
                 if (s_cmd_skip != 4'd0) begin
                     m_res_valid  <= 1'b1;
-                    m_res_status <= s_cmd_skip;
-                    m_res_data   <= 16'd0;
                 end else begin
                     pending <= 1'b1;
                 end
@@ -339,8 +354,8 @@ module twh_link #(
                     end
                     if (ph_oh[`TWH_PH_LISTEN]) begin
                         m_res_valid  <= 1'b1;
-                        m_res_status <= rx_status;
-                        m_res_data   <= rx_data_ok ? rx_bytes[23:8] : 16'd0;
+                        m_res_status <= rx_status_q;
+                        m_res_data   <= rx_data_ok_q ? rx_bytes[23:8] : 16'd0;
                     end
                 end
             end
@@ -352,18 +367,14 @@ module twh_link #(
     // keeps its exact length.
     wire [9:0] tx_char  = {1'b1, tx_byte_q, 1'b0};     // start, 8 data LSB first, stop
     wire       tx_level = (bitn >= 4'd9) ? 1'b1 : tx_char[bitn];
-    reg  carrier_on, drive;
-    always @(*) begin
-        case (ph)
-            `TWH_PH_IDLE:     begin drive = cfg_idle_charge; carrier_on = cfg_idle_charge; end
-            `TWH_PH_CHARGE,
-            `TWH_PH_PREAMBLE,
-            `TWH_PH_EXECUTE:  begin drive = 1'b1; carrier_on = 1'b1; end
-            `TWH_PH_COMMAND:  begin drive = 1'b1; carrier_on = tx_level; end
-            `TWH_PH_LISTEN:   begin drive = 1'b0; carrier_on = 1'b0; end
-            default:          begin drive = 1'b1; carrier_on = 1'b0; end  // sync, turnaround
-        endcase
-    end
+    // idle: the idle charge or nothing; charge, preamble, execute: the
+    // carrier; command: the carrier keyed by the bit; sync, turnaround:
+    // driven low; listen: released. An AND-OR of ph_oh's bits, so the
+    // phase adds no decode in front of the pin (ECP5's critical path).
+    wire drive      = !ph_oh[`TWH_PH_LISTEN] && (!ph_oh[`TWH_PH_IDLE] || cfg_idle_charge);
+    wire carrier_on = (ph_oh[`TWH_PH_IDLE] && cfg_idle_charge)
+                    || ph_oh[`TWH_PH_CHARGE] || ph_oh[`TWH_PH_PREAMBLE] || ph_oh[`TWH_PH_EXECUTE]
+                    || (ph_oh[`TWH_PH_COMMAND] && tx_level);
 
     reg tick_d, fall_d;
     always @(posedge clk) begin
@@ -481,13 +492,18 @@ module twh_link #(
     // cfg_unlock was set when that length was picked.
     reg [15:0] f_dur, f_ticks;
     reg        f_dur_unl;
+    // the length a loaded value stands for: 0 counts as 1
+    function [15:0] f_eff;
+        input [15:0] d;
+        f_eff = (d == 16'd0) ? 16'd1 : d;
+    endfunction
     always @(posedge clk) begin
         if (rst) begin
             f_dur     <= `TWH_TURNAROUND_MIN + 16'd1;
             f_ticks   <= 16'd0;
             f_dur_unl <= 1'b0;
         end else if (f_leave) begin
-            f_dur     <= dur_next;
+            f_dur     <= f_eff(dur_next);
             f_ticks   <= 16'd0;
             f_dur_unl <= f_unl2;
         end else if (tick && !last) begin
@@ -544,17 +560,17 @@ module twh_link #(
     always @(*) begin
         if (f_ok) begin
             // ---- sequencer: the state the counts below rely on
-            assert(cnt != 16'd0);
+            if (cnt == 16'd0) assert(f_ticks == 16'd0 && f_dur == 16'd1);
             assert(ph_oh == (8'd1 << ph));
             // the registered decodes trail cnt by one clock only, and never
             // at a tick
-            if (!tick_d && !rst) assert(last == (cnt == 16'd1) &&
+            if (!tick_d && !rst) assert(last == (cnt <= 16'd1) &&
                                         bit_end == (ph == `TWH_PH_COMMAND && cnt[4:0] == 5'd1 &&
                                                     cnt != 16'd1) &&
                                         byte_end == (bitn == 4'd10));
             assert(!(tick && tick_d));
             assert(f_ticks < f_dur);
-            assert(cnt + f_ticks == f_dur);
+            assert(f_eff(cnt) + f_ticks == f_dur);
             if (ph == `TWH_PH_IDLE)
                 assert(f_dur == 16'd1 || f_dur == `TWH_TURNAROUND_MIN + 16'd1);
 
@@ -611,6 +627,10 @@ module twh_link #(
             if (rx_n == 2'd3) assert(rx_exp == f_rx_chk);
             if (tick && last && ph == `TWH_PH_LISTEN && rx_n == 2'd3)
                 assert(rx_chk_ok == (f_rx_chk == rx_bytes[7:0]));
+            // and the registered verdict is the verdict of the answer as it
+            // stands at every tick of the listen phase
+            if (tick && ph == `TWH_PH_LISTEN)
+                assert(rx_status_q == rx_status && rx_data_ok_q == rx_data_ok);
         end
     end
 
@@ -620,7 +640,7 @@ module twh_link #(
             // clamped into the window unless cfg_unlock was set two clocks
             // before the load; so it is inside the window in that case
             if (f_leave) begin
-                assert(dur_next == f_want);
+                assert(f_eff(dur_next) == f_want);
                 if (!f_unl2) assert(f_in_window(f_nph, dur_next));
             end
         end

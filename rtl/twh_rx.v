@@ -34,6 +34,7 @@ module twh_rx (
     reg       active;     // inside a character
     reg       more;       // a good stop bit was seen: next start needs no mark
     reg [4:0] mark;       // consecutive mark ticks, saturating at 16
+    reg       mark_full;  // mark == 16 (a flag that moves with it, off the start's path)
     reg [4:0] sub;        // ticks since the start edge, within the bit
     reg [3:0] bitn;       // 0 start, 1-8 data, 9 stop
     reg [1:0] votes;      // ones among the samples of this bit
@@ -42,7 +43,17 @@ module twh_rx (
     // the answer is complete (three bytes), broken or over: a flag set with
     // its cause, so the enables of everything above start from a flip-flop
     reg  done;
-    wire vote_tick = (sub == 5'd11) || (sub == 5'd15) || (sub == 5'd19);
+    // Where in the character the receiver stands, kept as flags that move
+    // with `sub` and `bitn` (each proven equal to its decode), so that the
+    // sample points are flip-flops and not decodes behind the tick: the
+    // first two samples of a bit, its last one (the start bit's re-check,
+    // a data bit, the stop bit), and the bit's end. All are 0 outside a
+    // character.
+    reg  at_vote;      // active && sub is 11 or 15
+    reg  chk_start;    // active && sub == 19 && bitn == 0
+    reg  chk_data;     // active && sub == 19 && bitn is 1-8
+    reg  chk_stop;     // active && sub == 19 && bitn == 9
+    reg  at_end;       // active && sub == 31
     // the third sample completes the vote
     wire bit_val = (votes + {1'b0, env}) >= 2'd2;
 
@@ -56,52 +67,62 @@ module twh_rx (
             active    <= 1'b0;
             more      <= 1'b0;
             mark      <= 5'd0;
+            mark_full <= 1'b0;
             sub       <= 5'd0;
             bitn      <= 4'd0;
             votes     <= 2'd0;
             sh        <= 8'd0;
             done      <= 1'b0;
+            at_vote   <= 1'b0;
+            chk_start <= 1'b0;
+            chk_data  <= 1'b0;
+            chk_stop  <= 1'b0;
+            at_end    <= 1'b0;
         end else if (tick && !done) begin
             if (!env)                mark <= 5'd0;
-            else if (mark != 5'd16)  mark <= mark + 1'b1;
+            else if (!mark_full)     mark <= mark + 1'b1;
+            mark_full <= env && (mark_full || mark == 5'd15);
 
             if (!active) begin
-                if (!env && (more || mark == 5'd16)) begin
+                if (!env && (more || mark_full)) begin
                     active <= 1'b1;
                     sub    <= 5'd1;
                     bitn   <= 4'd0;
-                    votes  <= 2'd0;
                 end
             end else begin
-                sub <= sub + 1'b1;
-                if (sub == 5'd31) begin
-                    bitn  <= bitn + 1'b1;
-                    votes <= 2'd0;
+                // (a character starts at sub 1 and leaves at sub 19, so
+                // the flags are 0 there without a term of their own)
+                sub       <= sub + 1'b1;
+                at_vote   <= (sub == 5'd10) || (sub == 5'd14);
+                chk_start <= (sub == 5'd18) && (bitn == 4'd0);
+                chk_data  <= (sub == 5'd18) && (bitn != 4'd0) && (bitn != 4'd9);
+                chk_stop  <= (sub == 5'd18) && (bitn == 4'd9);
+                at_end    <= (sub == 5'd30);
+                if (at_end) bitn <= bitn + 1'b1;
+                // cleared once the bit is decided, so they are 0 at the
+                // next bit's first sample and outside a character, and
+                // the start needs no term of its own here
+                if (chk_start || chk_data || chk_stop) votes <= 2'd0;
+                if (at_vote) votes <= votes + {1'b0, env};
+                if (chk_start) begin
+                    if (bit_val) active <= 1'b0;    // false start
+                    else         started <= 1'b1;
                 end
-                if (vote_tick && sub != 5'd19) votes <= votes + {1'b0, env};
-                if (sub == 5'd19) begin
-                    case (bitn)
-                        4'd0: begin
-                            if (bit_val) active <= 1'b0;    // false start
-                            else         started <= 1'b1;
-                        end
-                        4'd9: begin
-                            active <= 1'b0;
-                            if (bit_val) begin
-                                more   <= 1'b1;
-                                nbytes <= nbytes + 1'b1;
-                                bytes  <= {bytes[15:0], sh};
-                                if (nbytes == 2'd2) done <= 1'b1;
-                            end else if (sh == 8'd0) begin
-                                ended     <= 1'b1;
-                                done      <= 1'b1;
-                            end else begin
-                                frame_err <= 1'b1;
-                                done      <= 1'b1;
-                            end
-                        end
-                        default: sh <= {bit_val, sh[7:1]};
-                    endcase
+                if (chk_data) sh <= {bit_val, sh[7:1]};
+                if (chk_stop) begin
+                    active <= 1'b0;
+                    if (bit_val) begin
+                        more   <= 1'b1;
+                        nbytes <= nbytes + 1'b1;
+                        bytes  <= {bytes[15:0], sh};
+                        if (nbytes == 2'd2) done <= 1'b1;
+                    end else if (sh == 8'd0) begin
+                        ended     <= 1'b1;
+                        done      <= 1'b1;
+                    end else begin
+                        frame_err <= 1'b1;
+                        done      <= 1'b1;
+                    end
                 end
             end
         end
@@ -166,14 +187,22 @@ module twh_rx (
             endcase
             // the counters stay in range
             assert(bitn <= 4'd9);
+            // the position flags are the decodes they stand for
+            assert(at_vote   == (active && (sub == 5'd11 || sub == 5'd15)));
+            assert(chk_start == (active && sub == 5'd19 && bitn == 4'd0));
+            assert(chk_data  == (active && sub == 5'd19 && bitn != 4'd0 && bitn != 4'd9));
+            assert(chk_stop  == (active && sub == 5'd19 && bitn == 4'd9));
+            assert(at_end    == (active && sub == 5'd31));
             if (active) assert(!done);
             assert(done == ((nbytes == 2'd3) || frame_err || ended));
             assert(mark <= 5'd16);
+            assert(mark_full == (mark == 5'd16));
             if (!done) assert(mark == f_mk);
             if (active && bitn == 4'd9) assert(sub <= 5'd19);
             if (active && bitn == 4'd0) assert(sub != 5'd0);
             if (active && (bitn != 4'd0 || sub > 5'd19)) assert(started);
             assert(votes <= 2'd2);
+            if (!active || sub > 5'd19) assert(votes == 2'd0);
             if (active && sub <= 5'd11) assert(votes == 2'd0);
             if (active && sub <= 5'd15) assert(votes <= 2'd1);
         end
@@ -315,7 +344,8 @@ module twh_rx (
                     if (m_n == 2'd0) assert(m_mk == 5'd16);
                 end else if (m_b != 4'd9 || m_c <= 5'd19) begin
                     assert(active && bitn == m_b && sub == m_c);
-                    assert(votes == (m_env ? {1'b0, m_c > 5'd11} + {1'b0, m_c > 5'd15} : 2'd0));
+                    assert(votes == ((m_env && m_c <= 5'd19) ? {1'b0, m_c > 5'd11} + {1'b0, m_c > 5'd15}
+                                                       : 2'd0));
                 end else begin
                     assert(!active && !m_brk && m_n != 2'd0);
                 end
