@@ -573,11 +573,14 @@ module twh_core #(
             default: f_cmp = {1'b0, f_hi < 16'd2000, 1'b0, f_lo < 16'd2000};
         endcase
         if (f_rs && f_h) begin
+`ifndef TWH_F_CORE
+            // (the jobs with the channel stand-in cut the window checker)
             if (wr && ch_exists && ch_reg <= 3'd3) assert(cw_ok[ch_reg[1:0]] == f_cw_ok);
             if (wr && ch_exists && ch_reg <= 3'd2) assert(q_cmp == f_cmp);
-            assert(q_cmp_nz == (q_cmp != 4'd0));
             // REFUSED is raised by exactly the channel writes not taken
             assert(refused == (wr && ch_exists && ch_reg <= 3'd3 && !f_cw_ok));
+`endif
+            assert(q_cmp_nz == (q_cmp != 4'd0));
             // the decode taken on the way in is that of the request's own
             // address and data
             assert(q_wr == (q_req && q_we && q_full) && q_rd == (q_req && !q_we));
