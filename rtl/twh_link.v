@@ -176,10 +176,10 @@ module twh_link #(
     // least one carrier period, which is at least 4 clocks, so the value has
     // settled long before it is loaded, and neither the six-way pick nor
     // the clamp's choice sit on one clock's path.
-    localparam [2:0] W_NONE = 3'd0, W_CHARGE = 3'd1, W_SYNC = 3'd2, W_PREAMBLE = 3'd3,
+    localparam [2:0] W_CHARGE = 3'd1, W_SYNC = 3'd2, W_PREAMBLE = 3'd3,
                      W_EXECUTE = 3'd4, W_LISTEN = 3'd5, W_TURN = 3'd6;
     reg [15:0] nx_v, pick_v;
-    reg [2:0]  nx_w;                // which window applies (W_NONE: fixed length)
+    reg [2:0]  nx_w;                // which window applies (0: a fixed length, none)
     reg        nx_b, nx_a;          // the value lies below / above that window
     // the pick below is an AND-OR of ph_oh's bits
     always @(*) begin
@@ -204,8 +204,9 @@ module twh_link #(
              | (ph_oh[`TWH_PH_SYNC]    & cfg_above[2]) | (ph_oh[`TWH_PH_COMMAND] & cfg_above[3])
              | (ph_oh[`TWH_PH_EXECUTE] & cfg_above[4]) | (ph_oh[`TWH_PH_LISTEN]  & cfg_above[5]);
     end
-    // The window picked (W_NONE under the lab unlock: at least 1, no upper
-    // bound) travels as its code; its bounds are constants of the code.
+    // The window picked travels as its code; its bounds are constants of
+    // the code. Under the lab unlock both flags are 0, so the value goes
+    // through as it is and the code goes unused.
     reg [2:0]  pick_w;
     reg        pick_b, pick_a;
     reg [15:0] w_lo, w_hi;
@@ -222,7 +223,7 @@ module twh_link #(
     end
     always @(posedge clk) begin
         pick_v <= nx_v;
-        pick_w <= cfg_unlock ? W_NONE : nx_w;
+        pick_w <= nx_w;
         pick_b <= !cfg_unlock && nx_b;
         pick_a <= !cfg_unlock && nx_a;
         // a free value of zero is loaded as it is: the counter takes it
