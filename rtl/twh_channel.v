@@ -305,8 +305,9 @@ module twh_channel #(
         f_win2 = v[15:0] >= 16'd2000 && v[31:16] >= 16'd2000;
     endfunction
 
-    // Whether a write of wdata must be taken. Wires, not function calls under $past: Yosys 0.70
-    // evaluates a function call inside $past on the current arguments.
+    // Whether a write of wdata must be taken. Wires, not function calls
+    // under $past: Yosys 0.70 evaluates a function call inside $past on the
+    // current arguments.
     wire f_take0 = lab || f_win0(wdata);
     wire f_take1 = lab || f_win1(wdata);
     wire f_take2 = lab || f_win2(wdata);
