@@ -22,8 +22,8 @@
 //   listen                     released (line_oe = 0)
 //   idle                       released, or carrier if cfg_idle_charge
 // After reset the engine keeps the line released for the minimum turnaround
-// before its first charge, so a reset during a listen cannot shorten the
-// turnaround the peripheral sees.
+// before its first charge and before any idle charge, so a reset during a
+// listen cannot shorten the turnaround the peripheral sees.
 `default_nettype none
 `include "twh_defs.vh"
 module twh_link #(
@@ -372,8 +372,13 @@ module twh_link #(
     // carrier; command: the carrier keyed by the bit; sync, turnaround:
     // driven low; listen: released. An AND-OR of ph_oh's bits, so the
     // phase adds no decode in front of the pin (ECP5's critical path).
-    wire drive      = !ph_oh[`TWH_PH_LISTEN] && (!ph_oh[`TWH_PH_IDLE] || cfg_idle_charge);
-    wire carrier_on = (ph_oh[`TWH_PH_IDLE] && cfg_idle_charge)
+    // The idle charge waits for the end of the post-reset hold-off (idle
+    // with its count not yet at its last period): a reset may have cut a
+    // listen short, and the peripheral gets its full turnaround even when
+    // software sets IDLE_CHARGE again at once.
+    wire idle_chg   = cfg_idle_charge && last;
+    wire drive      = !ph_oh[`TWH_PH_LISTEN] && (!ph_oh[`TWH_PH_IDLE] || idle_chg);
+    wire carrier_on = (ph_oh[`TWH_PH_IDLE] && idle_chg)
                     || ph_oh[`TWH_PH_CHARGE] || ph_oh[`TWH_PH_PREAMBLE] || ph_oh[`TWH_PH_EXECUTE]
                     || (ph_oh[`TWH_PH_COMMAND] && tx_level);
 
@@ -685,12 +690,15 @@ module twh_link #(
 
     reg [2:0] f_lp;
     reg       f_txl, f_ic, f_tdd;
+    // f_ic: the idle charge the pins took, off while the post-reset
+    // hold-off runs (idle, not yet in its last period); the clock-level
+    // section below bounds the hold-off on its own
     always @(posedge clk) begin
         f_lp  <= ph;
         f_txl <= tx_level;
         f_tdd <= tick_d;
         if (rst)         f_ic <= 1'b0;
-        else if (tick_d) f_ic <= cfg_idle_charge;
+        else if (tick_d) f_ic <= cfg_idle_charge && !(ph_oh[`TWH_PH_IDLE] && !last);
     end
     wire f_carrier = (f_lp == `TWH_PH_CHARGE) || (f_lp == `TWH_PH_PREAMBLE) ||
                      (f_lp == `TWH_PH_EXECUTE) || (f_lp == `TWH_PH_COMMAND && f_txl) ||
@@ -739,6 +747,17 @@ module twh_link #(
     // reset: the carrier ticks one period after it (two clocks after reset).
     reg [7:0]  f_since;
     reg [19:0] f_clk;
+    reg        f_fresh;      // no phase has started since the reset
+    reg [11:0] f_hot;        // ticks since the reset while fresh (saturating)
+    always @(posedge clk) begin
+        if (rst) begin
+            f_fresh <= 1'b1;
+            f_hot   <= 12'd0;
+        end else begin
+            if (f_leave) f_fresh <= 1'b0;
+            if (tick && f_hot != 12'hFFF) f_hot <= f_hot + 1'b1;
+        end
+    end
     always @(posedge clk) begin
         if (rst) begin
             f_since <= F_P[7:0] - 8'd1;
@@ -760,6 +779,23 @@ module twh_link #(
                 assert(f_clk == {4'd0, f_ticks} * F_P20 + {12'd0, f_since});
             // a phase lasts f_dur periods of F_P clocks: f_dur microseconds
             if (f_leave && ph != `TWH_PH_IDLE) assert(f_clk == {4'd0, f_dur} * F_P20);
+            // after a reset, until the first phase starts, the line stays
+            // released for the full minimum turnaround, whatever the idle
+            // charge input does (a reset may have cut a listen short):
+            // 2000 periods since the reset ended (f_clk began at F_P - 1)
+            if (f_fresh && line_oe)
+                assert(f_clk >= (`TWH_TURNAROUND_MIN + 20'd1) * F_P20 - 20'd1);
+            // (what makes it inductive: the hold-off counts every tick
+            // until it reaches its last period, and the idle charge is
+            // taken only at a tick after that)
+            if (f_fresh) begin
+                assert(ph == `TWH_PH_IDLE && f_dur == `TWH_TURNAROUND_MIN + 16'd1);
+                if (f_hot < 12'd2100) assert(f_clk == {8'd0, f_hot} * F_P20 + {12'd0, f_since});
+                else                  assert(f_clk >= 20'd2100 * F_P20);
+                if (!last) assert(f_hot == f_ticks[11:0]);
+                else       assert(f_hot >= 12'd2000);
+                if (f_ic)  assert(f_hot >= 12'd2001);
+            end
             // after a reset no charge before the hold-off's 2001 periods
             // (the first of which began F_P - 1 clocks before the reset
             // ended), so the line rests at least 2000 periods + 3 clocks:

@@ -306,6 +306,7 @@ class CoreTB:
             await RisingEdge(d.clk)
         d.rst.value = 0
         await RisingEdge(d.clk)
+        self.t_reset_us = get_sim_time("us")     # the first clock out of reset
         for m in self.monitors:
             m.start()
         for m in self.models:

@@ -16,9 +16,11 @@ import random
 
 import cocotb
 import pytest
+from cocotb.simtime import get_sim_time
 from cocotb.triggers import Timer
 
 import protocol as p
+import regmap
 from coretb import (BLOCKED, CANCELLED, DEFAULT_TIMING, FACTORY_KEY, LAB_KEY,
                     NO_RESPONSE, OK, TXN_US, CoreTB)
 from periph_model import Faults
@@ -68,6 +70,24 @@ async def regmap_access(dut):
     tb = await CoreTB(dut, cells=(None, None, None)).start()
     rm = tb.rm
     last = tb.channels - 1
+
+    # ---- IDLE_CHARGE waits for the post-reset hold-off: a reset may have
+    # cut a listen short, and the line rests the minimum turnaround (2 ms)
+    # however soon software sets IDLE_CHARGE again
+    ones = (1 << tb.channels) - 1
+    ctrl_reset = regmap.fields_reset(tb.reg("CTRL"))
+    await tb.write("CTRL", ctrl_reset | tb.pack("CTRL", IDLE_CHARGE=ones))
+    assert get_sim_time("us") - tb.t_reset_us < 100
+    while get_sim_time("us") - tb.t_reset_us < 1995:
+        assert all(getattr(dut, f"line_oe_{ch}").value == 0 for ch in range(tb.channels)), \
+            f"idle charge {get_sim_time('us') - tb.t_reset_us:.1f} us after reset"
+        await Timer(5, "us")
+    await Timer(10, "us")
+    assert all(getattr(dut, f"line_oe_{ch}").value == 1 for ch in range(tb.channels)), \
+        "idle charge not driven after the hold-off"
+    await Timer(100, "us")                 # a carrier burst, for the monitor
+    await tb.write("CTRL", ctrl_reset)     # back to the reset state
+
     present = {r.address: r for r in rm.registers}
 
     async def snapshot():
@@ -419,11 +439,14 @@ async def fifo_edges(dut):
     assert lv.RES_LEVEL == depth, lv
     st = await tb.fields("STATUS")
     assert st.RES_FULL == 1 and st.RES_EMPTY == 0, st
-    # STATUS.BUSY: "a transaction is queued in the channel or running"
+    # STATUS.BUSY: "a transaction is queued in the channel or running, or
+    # its result has yet to enter the result FIFO": each engine ran one
+    # transaction more than the FIFO holds, and its result waits in the
+    # channel with the engine idle (STATE.BUSY 0)
+    assert st.BUSY == (1 << nch) - 1, f"results wait in every channel, STATUS.BUSY = {st.BUSY:#x}"
     for ch in range(nch):
         s = await tb.fields("STATE", ch)
-        if s.SLOT_FULL:
-            assert (st.BUSY >> ch) & 1, f"ch{ch}: command waiting in the slot, STATUS.BUSY = {st.BUSY:#x}"
+        assert s.BUSY == 0 and s.PHASE == 0, (ch, s)
 
     # ---- pop everything: every command exactly once, in order per channel
     results = await tb.wait_results(total, timeout_ms=total * 4)
