@@ -87,7 +87,8 @@ module twh_axil #(
 
 `ifdef FORMAL
     // Proven against formal/stub/twh_core.v, which keeps only the register
-    // port's contract (answer on the next clock, error and read data free),
+    // port's contract (answer two clocks after the request, error and read
+    // data free),
     // so these are the wrapper's own properties. Assumptions bind the
     // master's side only (AMBA AXI A3.1.2, A3.2.1): no VALID during reset,
     // and a VALID stays up with its payload unchanged until its READY.

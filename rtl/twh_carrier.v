@@ -9,7 +9,8 @@
 // number of MHz, a Bresenham accumulator stretches some periods to P+1 so the
 // long-term average is exactly 1 MHz; each single period then stays within
 // the spec's 0.90-1.10 MHz and 45-60 % duty, which elaboration checks. Below
-// 10 MHz that is only possible for whole-MHz clocks.
+// 10 MHz few fractional clocks pass (5.5, 7.5 and 9.5 MHz do; 6.5 and 8.5 MHz
+// fail on the duty): whole-MHz clocks are the safe choice there.
 //
 // Only a narrow down-counter runs every cycle; the accumulator advances once
 // per period and vanishes when CLK_HZ is a whole number of MHz.
@@ -41,7 +42,7 @@ module twh_carrier #(
         // period, and the duty of both, must stay inside the spec window
         if (FRAC != 0 && (CLK_HZ / 10 > 1_100_000 / 10 * P ||
                           CLK_HZ / 10 < 900_000 / 10 * (P + 1))) begin : g_bad_frac
-            twh_error_CLK_HZ_below_10MHz_must_be_whole_MHz u_err ();
+            twh_error_CLK_HZ_fraction_puts_a_carrier_period_out_of_spec u_err ();
         end
         if (100 * H > 60 * P || 100 * H < 45 * (P + (FRAC != 0 ? 1 : 0))) begin : g_bad_duty
             twh_error_CLK_HZ_gives_carrier_duty_out_of_spec u_err ();

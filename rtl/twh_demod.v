@@ -6,8 +6,10 @@
 //   clock) before it counts, so shorter spikes are ignored outright.
 // - Each accepted high re-arms a hold of HOLD_NS, which bridges the carrier's
 //   low halves (at most 0.78 us at 0.90 MHz and 30 % duty) but is short
-//   against a 32 us bit, so the envelope's edges lag the true bit edges by
-//   about one microsecond. Longer glitches that get through become envelope
+//   against a 32 us bit. The envelope rises a synchroniser and GLITCH_NS
+//   after the line (about 0.1 us) and falls HOLD_NS after its last high
+//   (1-1.5 us), so a 0 bit reads about 1 us short and the receiver's
+//   samples sit about 1 us after the bit's centre, well inside it. Longer glitches that get through become envelope
 //   pulses of about HOLD_NS; the receiver's majority vote rejects those.
 `default_nettype none
 module twh_demod #(

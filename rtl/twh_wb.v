@@ -3,7 +3,10 @@
 // taken (the core's request stage, then the access; see twh_core for what
 // answers err). One access is in the core at a time. A cycle abandoned
 // (CYC dropped) before its answer still completes inside the core, but its
-// answer is swallowed, so it can never be taken for a later strobe's.
+// answer is swallowed, so it can never be taken for a later strobe's. Side
+// effects stay: an abandoned RES_POP read has removed its result (lost to
+// software), an abandoned CMD_PUSH has queued its command (a retry queues
+// it twice). Masters that abandon cycles must not do so on those two.
 `default_nettype none
 module twh_wb #(
     parameter integer CLK_HZ     = 48_000_000,

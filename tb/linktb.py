@@ -50,6 +50,7 @@ class LinkTB:
         d.stuck_en.value = 0
         d.stuck_val.value = 0
         d.glitch.value = 0
+        d.dropout.value = 0
         d.rst.value = 1
         await Timer(1, "us")
         await RisingEdge(d.clk)

@@ -31,8 +31,10 @@ Measurement definitions (times are kept in picoseconds, reported in us):
   command = nbits x bit time; execute = end of the burst carrying the last
   stop bits - (t0 + nbits x bit time); listen = Z time (oe fall to the next
   oe rise); turnaround = first rising edge after the end of listen - end of
-  listen (the carrier must stay off throughout, whether the host drives 0 or
-  releases the line meanwhile).
+  listen (the carrier must stay off throughout). The end of listen is the
+  host's drive coming back (driven 0, as this core does); a host that stayed
+  released from listen into the turnaround would merge the two and read as
+  a turnaround of 0, a false alarm, never a missed breach.
 * Bit time: least-squares slope, through ``t0``, of every frame edge against
   its bit index; indices are assigned progressively (byte 0 first) so that
   rates well off nominal still decode. Every frame edge must lie within

@@ -5,7 +5,9 @@
 // streams, the peripheral's drive, fault injection) is driven by cocotb.
 //
 // The 2-wire line itself is resolved by tb_line (faults, host, peripheral
-// model, pull-down).
+// model, pull-down). `dropout` pulls the host's sense input low on its own
+// (a carrier lost on the way in, after the line): the model and the monitor
+// still see the line.
 `timescale 1ns/1ps
 `default_nettype none
 module tb_link #(
@@ -47,6 +49,7 @@ module tb_link #(
     input  wire        stuck_en,
     input  wire        stuck_val,
     input  wire        glitch,
+    input  wire        dropout,
     output wire        line
 );
     reg clk = 1'b0;
@@ -57,7 +60,7 @@ module tb_link #(
         .host_o(line_o), .host_oe(line_oe), .periph_o(periph_o), .periph_oe(periph_oe),
         .stuck_en(stuck_en), .stuck_val(stuck_val), .glitch(glitch), .line(line)
     );
-    assign line_i = line;
+    assign line_i = line && !dropout;
 
     // the window flags the engine clamps by, as the core makes them
     // (one twh_window per timing register)

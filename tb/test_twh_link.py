@@ -213,6 +213,63 @@ async def glitches_during_listen(dut):
     await tb.finish()
 
 
+async def dropouts_at(dut, plan):
+    """At the next listen phase, pull the host's sense input low for each
+    (start, width) in plan, microseconds from the listen's start."""
+    while int(dut.phase.value) != Phase.LISTEN:
+        await Edge(dut.phase)
+    t = 0.0
+    for start, width in sorted(plan):
+        await Timer(int((start - t) * 1000), "ns")
+        dut.dropout.value = 1
+        await Timer(int(width * 1000), "ns")
+        dut.dropout.value = 0
+        t = start + width
+
+
+@cocotb.test()
+async def dropouts_during_listen(dut):
+    """Carrier dropouts on the way in during the answer (the glitches above
+    only add highs). The answer starts 150 us into the listen (the model's
+    response delay) and each bit is 32 us; the receiver samples 11, 15 and
+    19 us after its start edge, which the envelope sees about 1 us late.
+    - vote: in every bit a 5 us dropout lands on one of the three samples
+      (a different one from bit to bit): a 1 bit loses one sample, the
+      majority keeps it, and the answer reads right;
+    - false start: a 6 us dropout in the middle of a 100 us mark looks like
+      a start bit, fails its re-check and is dropped, and the real start
+      bit 54 us later is still taken;
+    - silence stays silence."""
+    tb, model, prof = await make_tb(dut)
+    expect_data = prof.fw_byte << 8 | prof.type_byte
+    bit, delay, lag = 32.0, 150.0, 1.25
+
+    # vote: 3 bytes of 11 bits after a one-bit mark
+    first = delay + bit
+    plan = [(first + k * bit + lag + (11, 15, 19)[k % 3] - 3.0, 5.0) for k in range(33)]
+    cocotb.start_soon(dropouts_at(dut, plan))
+    res = await one_fault(tb, model, Faults())
+    assert res.status == Status.OK and res.data == expect_data, res
+    check_answer(model, res)
+    # the same with every dropout on the middle sample of each bit
+    plan = [(first + k * bit + lag + 15 - 3.0, 5.0) for k in range(33)]
+    cocotb.start_soon(dropouts_at(dut, plan))
+    res = await one_fault(tb, model, Faults())
+    assert res.status == Status.OK and res.data == expect_data, res
+
+    # false start in a long mark
+    cocotb.start_soon(dropouts_at(dut, [(delay + 40.0, 6.0)]))
+    res = await one_fault(tb, model, Faults(mark_us=100.0))
+    assert res.status == Status.OK and res.data == expect_data, res
+    check_answer(model, res)
+
+    # silence: dropouts on a low line change nothing
+    cocotb.start_soon(dropouts_at(dut, [(100.0 + 40.0 * k, 5.0) for k in range(40)]))
+    res = await one_fault(tb, model, Faults(no_response=True))
+    assert res.status == Status.NO_RESPONSE and res.data == 0, res
+    await tb.finish()
+
+
 @cocotb.test()
 async def stuck_line(dut):
     """A line stuck high or low is reported as such (host read-back)."""
@@ -458,7 +515,7 @@ TESTS_12MHZ = [
     pytest.param("commands_o2_v15", marks=_SLOW), "commands_o2_v18",
     pytest.param("commands_o2_v26", marks=_SLOW), pytest.param("commands_co2", marks=_SLOW),
     pytest.param("commands_co2_stick", marks=_SLOW), "fault_statuses", "response_tolerance", "late_response",
-    "glitches_during_listen", "stuck_line", "timing_clamped", "timing_lab_unlock",
+    "glitches_during_listen", "dropouts_during_listen", "stuck_line", "timing_clamped", "timing_lab_unlock",
     "power_rules", "back_to_back", "result_backpressure", "idle_charge", "reset_mid_transaction",
     "frames_from_vectors",
 ]
