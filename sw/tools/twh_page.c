@@ -303,7 +303,7 @@ static void page_result(int k, const item_t *it, const twh_result_t *r)
     }
     c->have[it->what] = 1;
     c->ans[it->what] = r->data;
-    if (it->what == W_CONFIG) {
+    if (it->what == W_CONFIG && !c->err) {
         /* The field calibrations: the first word of every pair in the area.
          * The current record is the one with the largest stamp wherever it
          * lies: records sit beyond blank pairs once the area has wrapped
