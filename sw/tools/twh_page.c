@@ -273,11 +273,10 @@ static void firmware_result(int k, const item_t *it, const twh_result_t *r)
     c->present = 1;
 }
 
-/* the flash size in words of a 0x40 answer: bit 8 in bit 8 of the MSB's
- * bit 0, bits 7:0 in the LSB */
+/* the flash size in words of a 0x40 answer, as twh_config() takes it */
 static uint16_t config_size(uint16_t data)
 {
-    return (uint16_t)(((data >> 8) & 1u) << 8 | (data & 0xFFu));
+    return data & TWH_ADDR_MAX;
 }
 
 static void page_result(int k, const item_t *it, const twh_result_t *r)
