@@ -9,8 +9,9 @@
 //   against a 32 us bit. The envelope rises a synchroniser and GLITCH_NS
 //   after the line (about 0.1 us) and falls HOLD_NS after its last high
 //   (1-1.5 us), so a 0 bit reads about 1 us short and the receiver's
-//   samples sit about 1 us after the bit's centre, well inside it. Longer glitches that get through become envelope
-//   pulses of about HOLD_NS; the receiver's majority vote rejects those.
+//   samples sit about 1 us after the bit's centre, well inside it. Longer
+//   glitches that get through become envelope pulses of about HOLD_NS; the
+//   receiver's majority vote rejects those.
 `default_nettype none
 module twh_demod #(
     parameter integer CLK_HZ    = 48_000_000,

@@ -212,7 +212,8 @@ static int run_queues(void (*on_result)(int ch, const item_t *it, const twh_resu
                 if (tag == TWH_ERR_FIFO_FULL)
                     break;
                 if (tag < 0) {
-                    fprintf(S.o->err, "twh_cli: channel %d: submit 0x%02X: error %d\n", k, cmd, tag);
+                    fprintf(S.o->err, "twh_cli: channel %d: submit 0x%02X: error %d\n",
+                            k, cmd, tag);
                     return -1;
                 }
                 S.flight[tag].used = 1;
@@ -250,7 +251,8 @@ static int run_queues(void (*on_result)(int ch, const item_t *it, const twh_resu
         last = now_us();
         if (!S.flight[r.tag].used || S.flight[r.tag].ch != r.channel ||
             S.flight[r.tag].cmd != r.cmd) {
-            fprintf(S.o->err, "twh_cli: a result nobody asked for: channel %u tag %u command 0x%02X\n",
+            fprintf(S.o->err,
+                    "twh_cli: a result nobody asked for: channel %u tag %u command 0x%02X\n",
                     r.channel, r.tag, r.cmd);
             continue;            /* e.g. left over from an earlier session */
         }
@@ -394,18 +396,18 @@ static void print_page(int k)
             fprintf(S.o->out, "== channel %d: no sensor (no answer to the firmware command)\n", k);
         else
             fprintf(S.o->out, "== channel %d: error %d (%s) on %s\n", k, c->err,
-                   c->err_status < 9 ? status_name[c->err_status] : "?", what_name(c->err_what));
+                    c->err_status < 9 ? status_name[c->err_status] : "?", what_name(c->err_what));
         return;
     }
     if (c->fw.version >= 0)
         fprintf(S.o->out, "== channel %d: %s, firmware v%d (byte 0x%02X), execute %u us\n", k,
-               type_name(c->fw.type), c->fw.version, c->fw.raw, c->execute_us);
+                type_name(c->fw.type), c->fw.version, c->fw.raw, c->execute_us);
     else
         fprintf(S.o->out, "== channel %d: %s, firmware unknown (byte 0x%02X), execute %u us\n", k,
-               type_name(c->fw.type), c->fw.raw, c->execute_us);
+                type_name(c->fw.type), c->fw.raw, c->execute_us);
     if (c->err)
         fprintf(S.o->out, "  error            %d (%s) on %s; the page is incomplete\n", c->err,
-               c->err_status < 9 ? status_name[c->err_status] : "?", what_name(c->err_what));
+                c->err_status < 9 ? status_name[c->err_status] : "?", what_name(c->err_what));
 
     rc_s = c->have[W_REF] ? twh_supply_mv(c->ans[W_REF] & 0xFFFu, &supply) : TWH_ERR_RANGE;
     /* Values worked out from flash words need every word they use: a page
@@ -413,14 +415,15 @@ static void print_page(int k)
      * a device whose flash map is not known. */
     if (S.quick || c->err || !known_map(c->fw.type)) {
         if (rc_s == TWH_OK)
-            fprintf(S.o->out, "  supply           %ld mV (ADC %u)\n", (long)supply, c->ans[W_REF] & 0xFFFu);
+            fprintf(S.o->out, "  supply           %ld mV (ADC %u)\n",
+                    (long)supply, c->ans[W_REF] & 0xFFFu);
         if (c->have[W_TEMP])
             fprintf(S.o->out, "  temperature ADC  %u\n", c->ans[W_TEMP] & 0xFFFu);
         if (c->have[W_O2])
             fprintf(S.o->out, "  O2 ADC           %u\n", c->ans[W_O2] & 0xFFFu);
         if (!S.quick && !c->err)
             fprintf(S.o->out, "  flash            not read: no map known for device type 0x%02X\n",
-                   c->fw.type);
+                    c->fw.type);
         return;
     }
 
@@ -470,13 +473,15 @@ static void print_page(int k)
                 fixed(b1, sizeof b1, twh_ppo2_mbar(adc, m.current.value), 3);
                 fmt_date(b2, sizeof b2, &m.manufactured,
                          (unsigned long)m.current.stamp * m.cal_unit_hours);
-                fprintf(S.o->out, "  PPO2             %s bar (calibrated %s, gain %u, record at 0x%02X)\n",
-                       b1, b2, m.current.value, m.current.addr);
+                fprintf(S.o->out,
+                        "  PPO2             %s bar (calibrated %s, gain %u, record at 0x%02X)\n",
+                        b1, b2, m.current.value, m.current.addr);
             }
         } else if (m.current.addr) {
             fmt_date(b2, sizeof b2, &m.manufactured,
                      (unsigned long)m.current.stamp * m.cal_unit_hours);
-            fprintf(S.o->out, "  CO2 400 ppm cal  reading %u (calibrated %s)\n", m.current.value, b2);
+            fprintf(S.o->out, "  CO2 400 ppm cal  reading %u (calibrated %s)\n",
+                    m.current.value, b2);
         }
         fprintf(S.o->out, "  calibrations     %u stored\n", m.cal_count);
     }
