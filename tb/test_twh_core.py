@@ -17,7 +17,7 @@ import random
 import cocotb
 import pytest
 from cocotb.simtime import get_sim_time
-from cocotb.triggers import Timer
+from cocotb.triggers import RisingEdge, Timer
 
 import protocol as p
 import regmap
@@ -912,6 +912,86 @@ async def _level_is(tb, n):
     return (await tb.fields("LEVELS")).RES_LEVEL == n
 
 
+@cocotb.test()
+async def reset_mid_traffic(dut):
+    """Reset while every channel works: queued commands, one transaction on
+    each line, results waiting, a poll running. What software sees after
+    it: every line released on the first reset clock, every register at
+    its reset value, no result from before the reset, ever, and nothing on
+    the lines until something is pushed; then a command runs as usual, its
+    charge at least the minimum turnaround (2 ms) after the reset."""
+    tb = await CoreTB(dut, cells=("o2_v18", "o2_v15", "co2")).start()
+    d = tb.dut
+    await tb.write_fields("POLL_CTRL", 2, CMD=0x44, PAYLOAD=0xAA, INTERVAL_MS=1, EN=1)
+    for i in range(12):
+        await tb.push(0x42 + i % 3, ch=i % 2, tag=i)
+
+    async def all_lines_busy():
+        phases = [(await tb.fields("STATE", ch)).PHASE for ch in range(3)]
+        return all(ph != 0 for ph in phases)
+    await tb.wait_until(all_lines_busy, timeout_ms=60)
+    lv = await tb.fields("LEVELS")
+    assert lv.CMD_LEVEL > 0, lv          # commands still queued
+
+    # the reset: two clocks, between bus accesses
+    for m in tb.monitors:
+        m.reset_seen()
+    await RisingEdge(d.clk)
+    d.rst.value = 1
+    await RisingEdge(d.clk)              # the first reset edge
+    await RisingEdge(d.clk)
+    assert all(getattr(d, f"line_oe_{ch}").value == 0 for ch in range(3)), \
+        "a line still driven a clock into reset"
+    d.rst.value = 0
+    await RisingEdge(d.clk)
+    t_reset = get_sim_time("us")
+    first_oe = []
+
+    async def watch_oe():
+        while True:
+            await RisingEdge(d.line_oe_0)
+            first_oe.append(get_sim_time("us") - t_reset)
+            return
+    cocotb.start_soon(watch_oe())
+
+    st = await tb.fields("STATUS")
+    assert (st.BUSY, st.CMD_EMPTY, st.RES_EMPTY, st.CMD_FULL, st.RES_FULL, st.FLUSHING) == \
+        (0, 1, 1, 0, 0, 0), st
+    assert await tb.read("LEVELS") == 0
+    assert await tb.errors() == 0
+    assert await tb.read("POLL_READY") == 0
+    for name in ("CTRL", "IRQ_EN"):
+        assert await tb.read(name) == regmap.fields_reset(tb.reg(name)), name
+    for ch in range(3):
+        for name in ("POLL_CTRL", "POLL_RESULT", "TIMING0", "TIMING1", "TIMING2"):
+            assert await tb.read(name, ch) == regmap.fields_reset(tb.reg(name, ch)), (name, ch)
+        s = await tb.fields("STATE", ch)
+        assert s.SLOT_FULL == 0 and s.BUSY == 0 and s.PHASE == 0, (ch, s)
+    assert (await tb.fields("RES_INFO")).VALID == 0
+    assert not first_oe
+    n_txns = [len(tb.txns(ch)) for ch in range(3)]
+
+    # a command pushed at once runs as usual (the execute phase is back at
+    # its reset value, 4 ms, which every modelled cell takes), its charge
+    # no sooner than 2 ms after the reset
+    await tb.push(0x41, ch=0, tag=7)
+    assert get_sim_time("us") - t_reset < 1000
+    r = await tb.wait_result(0, 7, timeout_ms=40)
+    prof = tb.profiles[0]
+    assert r.status == OK and r.data == (prof.fw_byte << 8 | prof.type_byte), r
+    assert first_oe and first_oe[0] >= 2000.0, f"charge {first_oe} us after reset"
+    # and nothing else, ever: no result from before the reset, no
+    # transaction on the other lines
+    await Timer(30, "ms")                # longer than any transaction
+    assert (await tb.fields("RES_INFO")).VALID == 0, "a result from before the reset"
+    assert await tb.read("LEVELS") == 0
+    assert [len(tb.txns(ch)) for ch in (1, 2)] == n_txns[1:], "a transaction started after reset"
+    assert len(tb.txns(0)) == n_txns[0] + 1
+    await tb.write_fields("POLL_CTRL", 2, CMD=0x44, PAYLOAD=0xAA, INTERVAL_MS=1, EN=0)
+    await tb.finish()
+
+
+
 # ============================================================== pytest
 import simrun  # noqa: E402
 
@@ -943,6 +1023,8 @@ CASES = [
     ("random_traffic", 0, 12_000_000, 3, 16),
     ("random_traffic", 1, 4_000_000, 3, 8),
     ("irq_and_flush", 1, 4_000_000, 3, 16),
+    ("reset_mid_traffic", 0, 4_000_000, 3, 16),
+    ("reset_mid_traffic", 1, 4_000_000, 3, 16),
 ]
 
 
