@@ -250,13 +250,10 @@ module twh_core #(
     // the FIFO's RAM output drives no comparator on its way to the slot.
     wire        push_req  = q_push;
     wire        cmd_full, cmd_empty;
-    wire        cmd_valid_next;       // !cmd_empty of the next clock
-    // STATUS.CMD_EMPTY: no command queued. A push into an empty FIFO is
-    // counted at once (LEVELS) but reaches the FIFO's output a clock later
-    // (cmd_empty still 1): the flag waits for both, so that STATUS never
-    // reads "done" while a command is on its way. A register, taken from
-    // the FIFO's next state: nothing is added to the read path.
-    reg         st_cmd_empty;
+    // verilator lint_off UNUSEDSIGNAL
+    wire        cmd_valid_next;       // the command FIFO is read by dispatch alone
+    // verilator lint_on UNUSEDSIGNAL
+    wire        cmd_vacant;           // no command queued (STATUS.CMD_EMPTY)
     wire [LW-1:0] cmd_level;
     wire [32:0] cmd_head;
     wire        push_bad_ch = q_bad_ch;      // the pushed word names no channel
@@ -292,13 +289,11 @@ module twh_core #(
     wire [3:0] h_skip = (flushing || flush_wr) ? `TWH_ST_CANCELLED :
                         disp_blk               ? `TWH_ST_BLOCKED : 4'd0;
 
-    always @(posedge clk) st_cmd_empty <= rst || (!cmd_valid_next && !push_ok);
-
     twh_fifo #(.W(33), .DEPTH(FIFO_DEPTH)) u_cmd_fifo (
         .clk(clk), .rst(rst),
         .push(push_ok), .din({p_blocked, q_wdata}), .full(cmd_full),
         .pop(dispatch), .dout(cmd_head), .empty(cmd_empty), .valid_next(cmd_valid_next),
-        .level(cmd_level)
+        .level(cmd_level), .vacant(cmd_vacant)
     );
 
     // ------------------------------------------------------------ result FIFO
@@ -309,7 +304,12 @@ module twh_core #(
     wire [CHANNELS*4-1:0]  c_res_status;
     wire [CHANNELS*5-1:0]  c_res_tag;
     reg  [2:0] scan;
-    wire res_full, res_empty;
+    wire res_full;
+    // verilator lint_off UNUSEDSIGNAL
+    wire res_empty;           // output register empty: the proofs read it (the
+                              // read selects take valid_next, STATUS vacant)
+    // verilator lint_on UNUSEDSIGNAL
+    wire res_vacant;          // no result queued (STATUS.RES_EMPTY)
     wire [LW-1:0] res_level;
     wire [35:0] res_head;
     wire [7:0] c_res_valid8;
@@ -324,22 +324,13 @@ module twh_core #(
               c_res_cmd[scan*8 +: 8], c_res_data[scan*16 +: 16]}),
         .full(res_full),
         .pop(pop_req), .dout(res_head), .empty(res_empty), .valid_next(res_valid_next),
-        .level(res_level)
+        .level(res_level), .vacant(res_vacant)
     );
 
     always @(posedge clk) begin
         if (rst || scan == CH_COUNT[2:0] - 3'd1 || CHANNELS == 1) scan <= 3'd0;
         else                                                     scan <= scan + 1'b1;
     end
-    // A result pushed the clock before: in the FIFO (its level counts it)
-    // but not yet on its output (RES_EMPTY still 1). Its channel keeps
-    // STATUS.BUSY for that clock, so that BUSY, CMD_EMPTY and RES_EMPTY
-    // never all read "done" while a result is still on its way.
-    reg [CHANNELS-1:0] landing;
-    integer l_n;
-    always @(posedge clk)
-        for (l_n = 0; l_n < CHANNELS; l_n = l_n + 1)
-            landing[l_n] <= !rst && res_push && scan == l_n[2:0];
 
     // ------------------------------------------------------------ channels
     wire [CHANNELS*32-1:0] c_t0, c_t1, c_t2, c_pc, c_pr, c_st;
@@ -392,9 +383,9 @@ module twh_core #(
                 assign slot_full8[n]   = slot_full[n];
                 assign c_res_valid8[n] = c_res_valid[n];
                 assign sample8[n]      = c_sample[n];
-                // queued (slot), running (engine), or its result not yet
-                // where RES_EMPTY shows it (waiting in the channel, landing)
-                assign busy8[n]        = c_busy[n] || slot_full[n] || c_res_valid[n] || landing[n];
+                // queued (slot), running (engine), or its result waiting
+                // for the result FIFO
+                assign busy8[n]        = c_busy[n] || slot_full[n] || c_res_valid[n];
             end else begin : g_off
                 assign slot_full8[n]   = 1'b0;
                 assign c_res_valid8[n] = 1'b0;
@@ -491,6 +482,11 @@ module twh_core #(
     always @(posedge clk) src_result <= !rst && (res_level != {LW{1'b0}}) &&
                                         (res_level16 >= {8'd0, res_threshold});
     wire        src_error  = (errors != 5'd0);
+    // STATUS's FIFO flags: nothing queued, whether or not an entry is still
+    // on its way to the FIFO's output (so BUSY 0 with both flags 1 means
+    // every result pushed has been read)
+    wire        st_cmd_empty = cmd_vacant;
+    wire        st_res_empty = res_vacant;
     wire        src_poll   = (poll_ready != 8'd0);
     assign irq = (ie_result && src_result) || (ie_error && src_error) || (ie_poll && src_poll);
 
@@ -504,7 +500,7 @@ module twh_core #(
                                    `TWH_VERSION_MAJOR, `TWH_VERSION_MINOR})
         | ({32{q_r_params}}     & {CLK_KHZ, DEPTH12})
         | ({32{q_r_ctrl}}       & {16'd0, idle_charge, 7'd0, enable})
-        | ({32{q_r_status}}     & {19'd0, flushing, res_empty, res_full, st_cmd_empty,
+        | ({32{q_r_status}}     & {19'd0, flushing, st_res_empty, res_full, st_cmd_empty,
                                    cmd_full, busy8})
         | ({32{q_r_levels}}     & {res_level16, cmd_level16})
         | ({32{q_r_errors}}     & {27'd0, errors})
@@ -630,12 +626,6 @@ module twh_core #(
     // for write-only and unmapped addresses and for an empty result FIFO's
     // fields.
     wire [35:0] f_res_shown = res_head & {36{!res_empty}};
-    // STATUS.CMD_EMPTY as its description has it: the FIFO's output empty
-    // and no push the clock before (one still on its way to the output)
-    reg         f_cmd_landing = 1'b0;
-    always @(posedge clk) f_cmd_landing <= !rst && push_ok;
-    wire        f_st_ce = cmd_empty && !f_cmd_landing;
-    always @(*) if (f_rs && f_h && !rst) assert(st_cmd_empty == f_st_ce);
     reg  [31:0] f_rdata, f_rdata_q;
     always @(*) begin
         f_rdata = 32'd0;
@@ -655,7 +645,7 @@ module twh_core #(
                     R_VERSION:    f_rdata = {factory_armed, lab, 10'd0, CH_COUNT, 8'd1, 8'd0};
                     R_PARAMS:     f_rdata = {CLK_KHZ, DEPTH12};
                     R_CTRL:       f_rdata = {16'd0, idle_charge, 7'd0, enable};
-                    R_STATUS:     f_rdata = {19'd0, flushing, res_empty, res_full, f_st_ce,
+                    R_STATUS:     f_rdata = {19'd0, flushing, res_vacant, res_full, cmd_vacant,
                                              cmd_full, busy8};
                     R_LEVELS:     f_rdata = {res_level16, cmd_level16};
                     R_ERRORS:     f_rdata = {27'd0, errors};
@@ -707,11 +697,10 @@ module twh_core #(
         end
     endgenerate
     wire [F_AW:0] f_cf_n = f_cf_wr - f_cf_rd;      // words in the RAM, behind the output
-    // result FIFO probes: what its level and empty flag stand for
+    // result FIFO probes: what its level and flags stand for
     (* keep *) wire [F_AW:0] f_rf_wr, f_rf_rd;     // u_res_fifo.wr_ptr, rd_ptr
     (* keep *) wire          f_rf_ov, f_rf_me;     // u_res_fifo.out_valid, mem_empty
     (* keep *) wire [F_AW:0] f_rf_rp1;             // u_res_fifo.rd_ptr_p1
-    (* keep *) wire          f_rf_full;            // u_res_fifo.full_r
     wire [F_AW:0] f_rf_n = f_rf_wr - f_rf_rd;
 
     // per-channel state widened to 8 channels
@@ -736,7 +725,7 @@ module twh_core #(
     // accepted command's result has gone through the result FIFO, and
     // nothing is left in it
     always @(*)
-        if (f_ok && !rst && busy8 == 8'd0 && st_cmd_empty && res_empty)
+        if (f_ok && !rst && busy8 == 8'd0 && st_cmd_empty && st_res_empty)
             assert(f_pend == 6'd0 && res_level == {LW{1'b0}});
 
     // ------------------------------------------------ factory rule
@@ -824,14 +813,14 @@ module twh_core #(
             assert(f_cf_n <= FIFO_DEPTH && cmd_level <= F_DEPTH);
             assert(cmd_level == f_cf_n + {{F_AW{1'b0}}, f_cf_ov});
             assert(cmd_empty == !f_cf_ov);
-            // a FIFO's output is empty while its RAM holds a word only in
-            // the clock after a push into the empty FIFO
-            assert(f_cf_ov || f_cf_me || f_cmd_landing);
+            // the result FIFO as the core relies on it, and both FIFOs'
+            // "no entry" flags (their proof has them too)
             assert(f_rf_n <= FIFO_DEPTH && res_level <= F_DEPTH);
             assert(res_level == f_rf_n + {{F_AW{1'b0}}, f_rf_ov});
             assert(res_empty == !f_rf_ov && f_rf_me == (f_rf_wr == f_rf_rd) &&
-                   f_rf_rp1 == f_rf_rd + 1'b1 && f_rf_full == (res_level == F_DEPTH));
-            assert(f_rf_ov || f_rf_me || landing != {CHANNELS{1'b0}});
+                   f_rf_rp1 == f_rf_rd + 1'b1 && res_full == (res_level == F_DEPTH));
+            assert(cmd_vacant == (cmd_level == {LW{1'b0}}));
+            assert(res_vacant == (res_level == {LW{1'b0}}));
             // the FIFO's own flags (its proof has them too)
             assert(f_cf_me == (f_cf_wr == f_cf_rd) && f_cf_rp1 == f_cf_rd + 1'b1);
             assert(cmd_full == (cmd_level == F_DEPTH));

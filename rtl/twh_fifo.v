@@ -1,6 +1,9 @@
 // Synchronous FIFO with a registered read port (so it maps onto block RAM)
 // and a show-ahead output register: `dout` is valid whenever `empty` is low.
-// `level` counts every entry, including the one on the output. DEPTH must be
+// `level` counts every entry, including the one on the output; `vacant` is
+// "level is 0". A push into an empty FIFO counts at once but reaches the
+// output a clock later, so `empty` can be 1 with an entry on its way: a
+// user that reports whether anything is queued takes `vacant`. DEPTH must be
 // a power of two.
 `default_nettype none
 module twh_fifo #(
@@ -16,7 +19,8 @@ module twh_fifo #(
     output reg  [W-1:0]                 dout,
     output wire                         empty,
     output wire                         valid_next,  // !empty as it will be next clock
-    output wire [$clog2(DEPTH+1)-1:0]   level
+    output wire [$clog2(DEPTH+1)-1:0]   level,
+    output wire                         vacant       // level == 0
 );
     localparam integer AW = $clog2(DEPTH);
     localparam integer LW = $clog2(DEPTH + 1);
@@ -43,7 +47,7 @@ module twh_fifo #(
     // decided on `full`, and an adder in front of it would be the FIFO
     // user's critical path.
     reg [LW-1:0] level_r;
-    reg          full_r;
+    reg          full_r, vacant_r;
     // "the RAM holds no word" is a flag, not a pointer compare: it gates
     // the RAM's read enable and the output register, and a compare there is
     // the slowest path of the core on an iCE40 UP5K. rd_ptr_p1 = rd_ptr + 1
@@ -52,6 +56,7 @@ module twh_fifo #(
     reg [AW:0]  rd_ptr_p1;
     assign level = level_r;
     assign full  = full_r;
+    assign vacant = vacant_r;
     assign empty = !out_valid;
 
     wire do_push = push && !full;
@@ -78,6 +83,7 @@ module twh_fifo #(
             out_valid <= 1'b0;
             level_r   <= {LW{1'b0}};
             full_r    <= 1'b0;
+            vacant_r  <= 1'b1;
         end else begin
             if (do_push && !do_pop)      level_r <= level_up;
             else if (do_pop && !do_push) level_r <= level_dn;
@@ -85,6 +91,8 @@ module twh_fifo #(
             // FIFO takes no push, so only a pop ends it
             if (full_r) full_r <= !do_pop;
             else        full_r <= do_push && !do_pop && (level_r == DEPTH_L - 1'b1);
+            if (do_push && !do_pop)      vacant_r <= 1'b0;
+            else if (do_pop && !do_push) vacant_r <= (level_r == {{(LW-1){1'b0}}, 1'b1});
             if (do_push) wr_ptr <= wr_ptr + 1'b1;
             if (load) begin
                 rd_ptr    <= rd_ptr_p1;
@@ -121,6 +129,7 @@ module twh_fifo #(
             assert(f_count <= DEPTH_L);
             assert(level == f_count);
             assert(full == (f_count == DEPTH_L));
+            assert(vacant == (f_count == {LW{1'b0}}));
             // a full FIFO drops the push, an empty one ignores the pop
             assert(do_push == f_push);
             assert(do_pop == f_pop);
