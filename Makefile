@@ -31,7 +31,7 @@ help:
 	@echo "make soak    - SOAK_TRANSACTIONS through the C driver on the Verilated core (docs/soak.md)"
 	@echo "make synth   - bitstreams for the three boards (docs/boards.md)"
 	@echo "make bench   - resources/Fmax (docs/resources.md), driver size, bus cost"
-	@echo "make fusesoc-synth - FuseSoC synth_ice40 + synth_ecp5 through the YoWASP shims"
+	@echo "make fusesoc-synth - FuseSoC synthesis targets (synth_ice40, synth_ecp5, the three boards) through the YoWASP shims"
 
 deps: .venv/.requirements.stamp
 .venv/.requirements.stamp: requirements.txt scripts/bootstrap.sh
