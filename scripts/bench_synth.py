@@ -70,17 +70,20 @@ def board_runs():
     return rows
 
 
-def seed_spread(part, top, params, files, mhz, name, constraints=None, first=None):
-    """Fmax over SEEDS (the seed-1 run given as first is reused)."""
+def seed_spread(part, top, params, files, mhz, name, constraints=None, first=None,
+                default_pnr=False):
+    """Fmax over SEEDS (the seed-1 run given as first is reused); with
+    default_pnr, nextpnr without the flow's options (synth.PNR_FLOW)."""
     fmax = [first["fmax"]] if first else []
+    tag = "-default-pnr" if default_pnr else ""
     for seed in SEEDS[1 if first else 0:]:
         r = synth.synth(part, top, params, files, mhz,
-                        ROOT / "build" / "bench" / f"{name}-seed{seed}",
-                        constraints=constraints, seed=seed)
+                        ROOT / "build" / "bench" / f"{name}{tag}-seed{seed}",
+                        constraints=constraints, seed=seed, default_pnr=default_pnr)
         fmax.append(r["fmax"])
     srt = sorted(fmax)
     met = sum(f >= mhz for f in fmax)
-    line = (f"- {name}: {' / '.join(f'{f:.1f}' for f in fmax)} MHz "
+    line = (f"- {name}{tag}: {' / '.join(f'{f:.1f}' for f in fmax)} MHz "
             f"(min {srt[0]:.1f}, median {srt[len(srt) // 2]:.1f}, max {srt[-1]:.1f}; "
             f"{met} of {len(fmax)} seeds reach {mhz:g})")
     print(line, flush=True)
@@ -115,16 +118,28 @@ def main():
     by = {(w, r["part"], r["params"].get("CHANNELS")): r for w, r in rows}
     # the goal configurations over placer seeds: the core at one channel on
     # each part with a goal, and the UP5K through the iCEBreaker board top
-    spread = []
+    # each also without the flow's nextpnr options (where the part's family
+    # has any), so the table shows what they buy
+    spread, spread_default = [], []
+
+    def flows(part):
+        fam = synth.PARTS[part]["family"]
+        return ((False, spread), (True, spread_default)) if synth.PNR_FLOW[fam] \
+            else ((False, spread),)
     for part, mhz in CORE_RUNS:
-        spread.append(seed_spread(part, "twh_wb", {"CHANNELS": "1", "FIFO_DEPTH": "16"},
-                                  synth.core_sources(), mhz, f"{part}-twh_wb-1",
-                                  first=by.get(("twh_wb (bare core)", part, "1"))))
+        for default_pnr, out in flows(part):
+            out.append(seed_spread(part, "twh_wb", {"CHANNELS": "1", "FIFO_DEPTH": "16"},
+                                   synth.core_sources(), mhz, f"{part}-twh_wb-1",
+                                   first=None if default_pnr else
+                                   by.get(("twh_wb (bare core)", part, "1")),
+                                   default_pnr=default_pnr))
     if not a.no_boards and (ROOT / "constraints" / "icebreaker.pcf").exists():
         srcs = sorted(str(p) for p in (ROOT / "boards" / "icebreaker").glob("*.v"))
-        spread.append(seed_spread("up5k", "twh_icebreaker", {"CHANNELS": "1"},
-                                  synth.core_sources() + srcs, 48, "up5k-icebreaker-1",
-                                  constraints=ROOT / "constraints" / "icebreaker.pcf"))
+        for default_pnr, out in flows("up5k"):
+            out.append(seed_spread("up5k", "twh_icebreaker", {"CHANNELS": "1"},
+                                   synth.core_sources() + srcs, 48, "up5k-icebreaker-1",
+                                   constraints=ROOT / "constraints" / "icebreaker.pcf",
+                                   default_pnr=default_pnr))
     per_ch = []
     for part, _ in CORE_RUNS:
         one, three = by.get(("twh_wb (bare core)", part, "1")), by.get(("twh_wb (bare core)", part, "3"))
@@ -137,6 +152,8 @@ def main():
                 "flip-flops | block RAM | Fmax MHz (nextpnr) | target MHz | met |\n"
                 "|---|---|---|---|---|---|---|---|---|---|")
         body = "\n".join(fmt_row(r, w) for w, r in rows)
+        flow = "; ".join(f"{fam} {' '.join(f'`{o}`' for o in opts) or 'none'}"
+                         for fam, opts in synth.PNR_FLOW.items())
         text = f"""# Resources and Fmax
 
 Written by `make bench` (scripts/bench_synth.py) on {datetime.date.today()}; do not
@@ -144,6 +161,8 @@ edit by hand. The figures are what the tools print: logic cells and Fmax
 from nextpnr's report (`--report`, seed 1), flip-flops and block RAMs from
 Yosys's statistics. The bare core's pins are placed freely (no constraint
 file); the board tops use the board constraints in `constraints/`.
+nextpnr runs with the flow's options (scripts/synth.py, `PNR_FLOW`):
+{flow}; the goal configurations are also shown without them.
 
 Tools (pinned in requirements.txt):
 {chr(10).join('- ' + v for v in tool_versions())}
@@ -158,6 +177,9 @@ Fmax of the goal configurations over nextpnr placer seeds {', '.join(map(str, SE
 (one channel; the UP5K against the iCEBreaker top's 48 MHz goal, not its
 12 MHz board clock):
 {chr(10).join(spread)}
+
+The same without the flow's nextpnr options:
+{chr(10).join(spread_default)}
 
 Goals of issue 5 for the Wishbone core (one channel, 16-deep FIFOs):
 {chr(10).join(f'- {p}: {g}' for p, g in GOALS.items())}
