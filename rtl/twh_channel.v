@@ -459,8 +459,35 @@ module twh_channel #(
         end
     end
 
+    // ------------------------------------------------ taking turns
+    // Neither a queued command nor a due poll can starve the other. f_pw:
+    // polls the engine took while the same command waited in the slot;
+    // f_sw: slot commands it took while the same poll was due and polling
+    // could go (enable on: with it off only skipped slot commands go, and
+    // they never reach the line). Each is at most one, so with the engine's
+    // proven bound per transaction neither waits longer than one
+    // transaction of the other kind.
+    reg [1:0] f_pw, f_sw;
+    always @(posedge clk) begin
+        if (rst || !slot_full || f_take)                      f_pw <= 2'd0;
+        else if (taken && use_poll_q && f_pw != 2'd3)         f_pw <= f_pw + 1'b1;
+        if (rst || !(poll_en && poll_due && enable) || (taken && use_poll_q)) f_sw <= 2'd0;
+        else if (f_take && f_sw != 2'd3)                      f_sw <= f_sw + 1'b1;
+    end
+    always @(*) begin
+        if (f_ok) begin
+            assert(f_pw <= 2'd1);
+            assert(f_sw <= 2'd1);
+            // the turn is the other kind's once one kind was taken
+            if (f_pw == 2'd1) assert(!prefer_poll);
+            if (f_sw == 2'd1) assert(prefer_poll);
+        end
+    end
+
     always @(posedge clk) begin
         if (f_ok && !rst) begin
+            cover(f_pw == 2'd1 && f_take);
+            cover(f_sw == 2'd1 && taken && use_poll_q);
             cover(res_valid && res_ready && f_lskip == `TWH_ST_CANCELLED && f_sskip == 4'd0);
             cover(taken && use_poll_q && slot_full);
             cover(poll_sample && slot_full && f_n == 2'd1);

