@@ -465,8 +465,8 @@ module twh_channel #(
     // f_sw: slot commands it took while the same poll was due and polling
     // could go (enable on: with it off only skipped slot commands go, and
     // they never reach the line). Each is at most one, so with the engine's
-    // proven bound per transaction neither waits longer than one
-    // transaction of the other kind.
+    // proven bound per transaction neither waits, beyond the transaction
+    // already running, longer than one transaction of the other kind.
     reg [1:0] f_pw, f_sw;
     always @(posedge clk) begin
         if (rst || !slot_full || f_take)                      f_pw <= 2'd0;
