@@ -39,6 +39,9 @@ GOALS = {
 # logic cells for the whole core (docs/architecture.md, "Area and speed")
 PIECES = [("twh_link", {}, "one channel's line engine (sequencer with clamp, carrier, "
                            "UART send with checksum, synchroniser, demodulator, receiver)"),
+          ("twh_rx", {}, "its UART receiver (majority vote, start-bit re-check, "
+                         "three bytes)"),
+          ("twh_demod", {}, "its demodulator (glitch filter, carrier envelope)"),
           ("twh_fifo", {"W": "33", "DEPTH": "16"}, "the 16-deep command FIFO")]
 
 
