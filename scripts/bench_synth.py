@@ -35,8 +35,9 @@ GOALS = {
 
 
 # pieces of the one-channel core placed alone on the HX8K, every port a pin
-# (nothing trimmed): what each weighs by itself, against the goal of 450
-# logic cells for the whole core (docs/architecture.md, "Area and speed")
+# (nothing trimmed): what each weighs by itself, against the goals of 450
+# logic cells for the whole core and 150 per further channel
+# (docs/architecture.md, "Area and speed")
 PIECES = [("twh_link", {}, "one channel's line engine (sequencer with clamp, carrier, "
                            "UART send with checksum, synchroniser, demodulator, receiver)"),
           ("twh_rx", {}, "its UART receiver (majority vote, start-bit re-check, "
