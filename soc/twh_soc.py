@@ -1,0 +1,159 @@
+#!/usr/bin/env python3
+"""The LiteX SoC of the drop-in proof (docs/soc.md): a VexRiscv (variant
+"minimal", RV32I) with integrated ROM and SRAM, LiteX's UART and timer (with
+its uptime counter), and twowire-host with three channels added by
+soc/twh_litex.py.
+
+    twh_soc.py --variant sim --out build/soc/sim [--rom fw.bin]
+    twh_soc.py --variant hw  --out build/soc/hw  [--rom fw.bin]
+
+Writes OUT/gateware/twh_soc.v (+ the ROM/RAM .init files and sources.f,
+every Verilog file the SoC needs), OUT/software/include/generated/ (csr.h,
+soc.h, mem.h of LiteX), OUT/regions.ld and OUT/fw_ldflags (the memory
+regions, for the firmware's link with picolibc.ld). Without --rom the ROM is left empty: that run is
+for the headers the firmware is compiled against; the second run, with the
+firmware, gives the Verilog (the map is the same in both).
+
+sim: the UART is LiteX's stream model (RS232PHYModel; the harness
+soc/sim_main.cpp takes its bytes), the clock and reset are pins the harness
+drives. hw: a real UART PHY (115200 baud) on tx/rx pins; the Verilog
+scripts/bench_soc.py synthesizes. Neither build runs LiteX's BIOS build
+(no picolibc/compiler-rt pythondata: the firmware is built with Debian's
+toolchain by mk/soc.mk) nor any vendor tool.
+"""
+import argparse
+import logging
+import os
+import sys
+from pathlib import Path
+
+from migen import ClockDomain, Module
+
+from litex.build.generic_platform import GenericPlatform, Pins, Subsignal
+from litex.soc.integration import export
+from litex.soc.integration.builder import Builder
+from litex.soc.integration.soc_core import SoCCore, get_mem_data
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from twh_litex import add_twh  # noqa: E402
+
+CHANNELS = 3
+TWH_ORIGIN = 0x82000000        # in VexRiscv's uncached IO region (0x80000000+)
+
+
+def _io(variant, channels):
+    io = [("sys_clk", 0, Pins(1)), ("sys_rst", 0, Pins(1)),
+          ("twh", 0,
+           Subsignal("line_o", Pins(channels)),
+           Subsignal("line_oe", Pins(channels)),
+           Subsignal("line_i", Pins(channels)))]
+    if variant == "sim":
+        io.append(("serial", 0,
+                   Subsignal("source_valid", Pins(1)), Subsignal("source_ready", Pins(1)),
+                   Subsignal("source_data", Pins(8)),
+                   Subsignal("sink_valid", Pins(1)), Subsignal("sink_ready", Pins(1)),
+                   Subsignal("sink_data", Pins(8))))
+    else:
+        io.append(("serial", 0, Subsignal("tx", Pins(1)), Subsignal("rx", Pins(1))))
+    return io
+
+
+class VerilogPlatform(GenericPlatform):
+    """Only writes the Verilog (and the list of sources): the simulation
+    and the synthesis runs call their tools themselves."""
+    default_clk_name = "sys_clk"
+
+    def build(self, fragment, build_dir="build", build_name="top", run=False, **kwargs):
+        os.makedirs(build_dir, exist_ok=True)
+        cwd = os.getcwd()
+        os.chdir(build_dir)
+        try:
+            if not hasattr(fragment, "statements"):
+                fragment = fragment.get_fragment()
+            self.finalize(fragment)
+            v = self.get_verilog(fragment, name=build_name)
+            v.write(build_name + ".v")
+            srcs = [os.path.abspath(f) for f, *_ in self.sources] + \
+                   [os.path.abspath(build_name + ".v")]
+            incs = [os.path.abspath(d) for d in self.verilog_include_paths]
+            with open("sources.f", "w") as f:
+                f.write("".join(f"+incdir+{d}\n" for d in incs))
+                f.write("".join(f"{s}\n" for s in srcs))
+        finally:
+            os.chdir(cwd)
+        return v.ns
+
+
+class _CRG(Module):
+    """One clock domain from the clk pin, reset synchronous from the rst pin
+    (the harness or the board holds it)."""
+    def __init__(self, platform):
+        self.clock_domains.cd_sys = ClockDomain()
+        self.comb += [self.cd_sys.clk.eq(platform.request("sys_clk")),
+                      self.cd_sys.rst.eq(platform.request("sys_rst"))]
+
+
+class TwhSoC(SoCCore):
+    mem_map = {**SoCCore.mem_map}
+
+    def __init__(self, variant, clk_hz, rom_size, sram_size, rom_init, channels=CHANNELS):
+        platform = VerilogPlatform("", _io(variant, channels), name="twh_soc")
+        SoCCore.__init__(self, platform, clk_hz,
+                         cpu_type="vexriscv", cpu_variant="minimal",
+                         integrated_rom_size=rom_size, integrated_rom_init=rom_init,
+                         integrated_sram_size=sram_size,
+                         uart_name="sim" if variant == "sim" else "serial",
+                         uart_baudrate=115200,
+                         with_timer=True, timer_uptime=True,
+                         ident="twowire-host LiteX SoC", ident_version=False)
+        self.crg = _CRG(platform)
+        self.twh = None
+        add_twh(self, "twh", pads=platform.request("twh"), channels=channels,
+                origin=TWH_ORIGIN)
+
+
+class HeaderBuilder(Builder):
+    """LiteX's Builder without its BIOS: csr.h, soc.h, mem.h are written,
+    the BIOS's make variables (which want the picolibc and compiler-rt
+    pythondata packages) are not."""
+    def _generate_includes(self, with_bios=True):
+        super()._generate_includes(with_bios=False)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--variant", choices=("sim", "hw"), required=True)
+    ap.add_argument("--out", required=True)
+    ap.add_argument("--clk-hz", type=int, default=4_000_000)
+    ap.add_argument("--rom-size", type=lambda s: int(s, 0), default=0x8000)
+    ap.add_argument("--sram-size", type=lambda s: int(s, 0), default=0x10000)
+    ap.add_argument("--rom", help="firmware binary for the ROM")
+    ap.add_argument("-v", "--verbose", action="store_true", help="LiteX's own log")
+    a = ap.parse_args()
+    if not a.verbose:
+        logging.disable(logging.INFO)
+
+    rom_init = []
+    if a.rom:
+        rom_init = get_mem_data(a.rom, data_width=32, endianness="little")
+        if len(rom_init) * 4 > a.rom_size:
+            sys.exit(f"{a.rom}: {len(rom_init) * 4} bytes, the ROM has {a.rom_size}")
+    soc = TwhSoC(a.variant, a.clk_hz, a.rom_size, a.sram_size, rom_init)
+    out = Path(a.out).resolve()
+    builder = HeaderBuilder(soc, output_dir=str(out), compile_software=False,
+                            compile_gateware=False)
+    builder.build(build_name="twh_soc", run=False)
+    (out / "regions.ld").write_text(export.get_linker_regions(soc.mem_regions))
+    # the same regions for picolibc's linker script (picolibc.ld)
+    rom, sram = soc.mem_regions["rom"], soc.mem_regions["sram"]
+    (out / "fw_ldflags").write_text(
+        f"-Wl,--defsym=__flash={rom.origin:#x} -Wl,--defsym=__flash_size={rom.size:#x} "
+        f"-Wl,--defsym=__ram={sram.origin:#x} -Wl,--defsym=__ram_size={sram.size:#x}\n")
+    print(f"twh_soc ({a.variant}): {out / 'gateware' / 'twh_soc.v'}, ROM "
+          f"{len(rom_init) * 4}/{a.rom_size} bytes used, SRAM {a.sram_size}, "
+          f"{soc.sys_clk_freq / 1e6:g} MHz, twh at {TWH_ORIGIN:#x}, "
+          f"irq {soc.irq.locs['twh']}")
+
+
+if __name__ == "__main__":
+    main()
