@@ -9,7 +9,8 @@ cd "$(dirname "$0")/.."
 # command -> Debian package
 tools=(iverilog:iverilog vvp:iverilog verilator:verilator yosys:yosys make:make gcc:gcc
        g++:g++ arm-none-eabi-gcc:gcc-arm-none-eabi arm-none-eabi-size:binutils-arm-none-eabi
-       sigrok-cli:sigrok-cli z3:z3 clang-14:clang-14 bc:bc)
+       sigrok-cli:sigrok-cli z3:z3 clang-14:clang-14 bc:bc
+       riscv64-unknown-elf-gcc:gcc-riscv64-unknown-elf)
 [ "${1:-}" = "--waves" ] && tools+=(gtkwave:gtkwave)
 
 missing=()
@@ -17,6 +18,8 @@ for pair in "${tools[@]}"; do
     command -v "${pair%%:*}" >/dev/null 2>&1 || missing+=("${pair##*:}")
 done
 [ -f /usr/include/cmocka.h ] || missing+=(libcmocka-dev)
+# picolibc for the LiteX SoC's firmware (make soc)
+[ -f /usr/lib/picolibc/riscv64-unknown-elf/picolibc.specs ] || missing+=(picolibc-riscv64-unknown-elf)
 # libFuzzer for clang-14 (make fuzz, make fuzz-smoke)
 compgen -G "/usr/lib/llvm-14/lib/clang/*/lib/linux/libclang_rt.fuzzer-x86_64.a" >/dev/null \
     || missing+=(libclang-rt-14-dev)
