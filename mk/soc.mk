@@ -106,5 +106,5 @@ soc-lint: $(SOC_SIM)/gateware/twh_soc.v
 	verilator --lint-only -Wall --timescale 1ns/1ps soc/lint.vlt -f $(SOC_SIM)/gateware/sources.f \
 	    tb/tb_line.v soc/sim_top.v --top-module sim_top
 
-bench-soc: deps
+bench-soc: $(SOC_FW)/fw.bin deps
 	$(PY) scripts/bench_soc.py

@@ -128,6 +128,7 @@ def main():
     ap.add_argument("--rom-size", type=lambda s: int(s, 0), default=0x8000)
     ap.add_argument("--sram-size", type=lambda s: int(s, 0), default=0x10000)
     ap.add_argument("--rom", help="firmware binary for the ROM")
+    ap.add_argument("--channels", type=int, default=CHANNELS)
     ap.add_argument("-v", "--verbose", action="store_true", help="LiteX's own log")
     a = ap.parse_args()
     if not a.verbose:
@@ -138,7 +139,7 @@ def main():
         rom_init = get_mem_data(a.rom, data_width=32, endianness="little")
         if len(rom_init) * 4 > a.rom_size:
             sys.exit(f"{a.rom}: {len(rom_init) * 4} bytes, the ROM has {a.rom_size}")
-    soc = TwhSoC(a.variant, a.clk_hz, a.rom_size, a.sram_size, rom_init)
+    soc = TwhSoC(a.variant, a.clk_hz, a.rom_size, a.sram_size, rom_init, a.channels)
     out = Path(a.out).resolve()
     builder = HeaderBuilder(soc, output_dir=str(out), compile_software=False,
                             compile_gateware=False)

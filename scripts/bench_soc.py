@@ -1,0 +1,127 @@
+#!/usr/bin/env python3
+"""Resources and Fmax of the LiteX SoC of the drop-in proof (docs/soc.md):
+VexRiscv "minimal" + twowire-host with three channels + LiteX's UART (a
+real 115200-baud PHY here, the stream model in the simulation), timer,
+ROM and SRAM, synthesized with the project's YoWASP flow
+(scripts/synth.py) for the iCE40 UP5K and the ECP5-25F. Printed, never
+asserted (part of make bench).
+
+Memory configurations of the same SoC (soc/twh_soc.py --variant hw):
+  as simulated   ROM 32 KiB (the firmware of make soc, 18 KiB) and SRAM
+                 64 KiB (the page tool keeps 34 KiB of state)
+  small memories ROM 8 KiB (the firmware's first 8 KiB, so the ROM stays
+                 non-constant) and SRAM 4 KiB: the logic of the SoC, with
+                 memories an FPGA of this size could hold in block RAM;
+                 this firmware would not run from it
+  small, 1 channel  the same with CHANNELS=1 (UP5K only): what fits there
+The SoC clock is 24 MHz (CLK_HZ of the core); nextpnr targets 24 MHz on the
+UP5K, 50 MHz on the ECP5. ECP5 runs use nextpnr's default options (not the
+project's --tmg-ripup: it takes several times as long on a design this
+size). A configuration whose memories exceed the part is reported from
+Yosys's statistics with nextpnr's reason.
+
+    bench_soc.py [--fw build/soc/fw/fw.bin] [--only up5k|ecp5-25f]
+"""
+import argparse
+import contextlib
+import json
+import os
+import re
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT / "scripts"))
+import synth  # noqa: E402
+
+OUT = ROOT / "build" / "soc" / "bench"
+CLK_HZ = 24_000_000
+# name, ROM, SRAM, ROM image truncated to, channels, parts (None: all)
+CONFIGS = [("as simulated", 0x8000, 0x10000, None, 3, None),
+           ("small memories", 0x2000, 0x1000, 0x2000, 3, None),
+           ("small, 1 channel", 0x2000, 0x1000, 0x2000, 1, ["up5k"])]
+PARTS = [("up5k", 24.0, "30 EBR (4 kbit), 4 SPRAM (256 kbit, not inferred)"),
+         ("ecp5-25f", 50.0, "56 DP16KD (18 kbit)")]
+
+
+def gen_verilog(name, rom_size, sram_size, fw, truncate, channels):
+    d = OUT / re.sub(r"\W+", "_", name)
+    d.mkdir(parents=True, exist_ok=True)
+    rom = d / "fw.bin"
+    data = fw.read_bytes()
+    rom.write_bytes(data[:truncate] if truncate else data)
+    subprocess.run([sys.executable, str(ROOT / "soc" / "twh_soc.py"), "--variant", "hw",
+                    "--out", str(d), "--clk-hz", str(CLK_HZ), "--rom-size", hex(rom_size),
+                    "--sram-size", hex(sram_size), "--rom", str(rom),
+                    "--channels", str(channels)], check=True,
+                   stdout=subprocess.DEVNULL)
+    gw = d / "gateware"
+    files = [l for l in (gw / "sources.f").read_text().split() if not l.startswith("+incdir")]
+    # the ROM/RAM .init files are read by bare name: give Yosys the paths
+    # relative to the repository, where the YoWASP tools run
+    v = gw / "twh_soc.v"
+    text = v.read_text()
+    fixed = re.sub(r'\$readmemh\("([^"/]+)"',
+                   lambda m: f'$readmemh("{synth.rel(gw / m.group(1))}"', text)
+    vs = gw / "twh_soc_synth.v"
+    vs.write_text(fixed)
+    return [f if f != str(v) else str(vs) for f in files], d
+
+
+def yosys_only(out):
+    stat = json.loads((ROOT / synth.rel(out) / "stat.json").read_text())
+    cells = stat["design"]["num_cells_by_type"]
+    ram = sum(n for c, n in cells.items() if c.startswith(("SB_RAM", "DP16KD")))
+    lut = cells.get("SB_LUT4", 0) + cells.get("LUT4", 0)
+    ff = sum(n for c, n in cells.items() if re.match(r"^(SB_DFF|TRELLIS_FF)", c))
+    log = (ROOT / synth.rel(out) / "nextpnr.log").read_text()
+    why = next((l.strip() for l in log.splitlines() if "ERROR" in l), "nextpnr failed")
+    # nextpnr's utilisation lines, e.g. "ICESTORM_LC:  6673/  5280   126%"
+    util = ", ".join(f"{m.group(1)} {m.group(2)}/{m.group(3)}" for m in re.finditer(
+        r"(ICESTORM_LC|ICESTORM_RAM|TRELLIS_COMB|DP16KD):\s+(\d+)/\s*(\d+)", log))
+    return ram, lut, ff, why, util
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--fw", default=str(ROOT / "build" / "soc" / "fw" / "fw.bin"))
+    ap.add_argument("--only", choices=[p for p, *_ in PARTS])
+    a = ap.parse_args()
+    fw = Path(a.fw)
+    if not fw.exists():
+        sys.exit(f"{fw}: build the firmware first (make soc)")
+    print("== LiteX SoC: VexRiscv minimal + twowire-host (3 channels) + UART + timer, "
+          f"{CLK_HZ / 1e6:g} MHz (docs/soc.md)")
+    t0 = time.time()
+    for name, rom_size, sram_size, truncate, channels, only in CONFIGS:
+        files, d = gen_verilog(name, rom_size, sram_size, fw, truncate, channels)
+        for part, freq, mem in PARTS:
+            if (a.only and part != a.only) or (only and part not in only):
+                continue
+            out = d / part
+            label = (f"{part:9} {name:16} {channels} ch, ROM {rom_size // 1024:2} KiB "
+                     f"SRAM {sram_size // 1024:2} KiB")
+            try:
+                # synth.py prints the tail of a failed tool's log: the
+                # reason is taken from the log below instead
+                with open(os.devnull, "w") as null, contextlib.redirect_stderr(null):
+                    r = synth.synth(part, "twh_soc", {}, files, freq, out, default_pnr=True)
+            except SystemExit:
+                ram, lut, ff, why, util = yosys_only(out)
+                print(f"{label}  DOES NOT FIT: nextpnr utilisation {util} "
+                      f"(Yosys: LUT {lut}, FF {ff}, {ram} block RAMs; part: {mem}); {why}")
+                continue
+            unit = "LC" if part == "up5k" else "LUT4+"
+            print(f"{label}  logic {r['logic']:5} {unit}  LUT {r['lut']:5}  FF {r['ff']:5}  "
+                  f"BRAM {r['ram']:2}  LUTRAM {r['lutram']:2}  Fmax {r['fmax']:6.1f} MHz "
+                  f"(target {freq:g}){'' if r['timing_met'] else ' MISSED'}  fits  "
+                  f"[{r['seconds']} s]")
+            sys.stdout.flush()
+    print(f"bench_soc: {time.time() - t0:.0f} s")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
