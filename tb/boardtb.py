@@ -121,11 +121,12 @@ class BoardTB:
             pins = types.SimpleNamespace(
                 line=getattr(d, f"line_{ch}"), periph_o=getattr(d, f"periph_o_{ch}"),
                 periph_oe=getattr(d, f"periph_oe_{ch}"), line_o=getattr(d, f"line_o_{ch}"),
-                line_oe=getattr(d, f"line_oe_{ch}"))
+                line_oe=getattr(d, f"line_oe_{ch}"), carrier=getattr(d, f"u_line{ch}").carrier)
             prof = self.profiles[ch]
-            self.models.append(PeripheralModel(pins, prof, Faults()).start() if prof else None)
+            self.models.append(PeripheralModel(pins, prof, Faults(), line_log=f"line_{ch}.log",
+                                               carrier=pins.carrier).start() if prof else None)
             mon = SpecMonitor(pins, execute_max_us=prof.exec_max_us if prof else 10000,
-                              name=f"spec_ch{ch}")
+                              name=f"spec_ch{ch}", pin_log=f"pins_{ch}.log")
             mon.start()
             self.monitors.append(mon)
         await self.wait_running()

@@ -2,8 +2,11 @@
 # by name, both here and inside the simulator (cocotb imports the test module
 # in the simulator process, which inherits PYTHONPATH).
 import os
+import signal
 import sys
 from pathlib import Path
+
+import pytest
 
 TB_DIR = Path(__file__).resolve().parent
 if str(TB_DIR) not in sys.path:
@@ -12,8 +15,72 @@ os.environ["PYTHONPATH"] = os.pathsep.join(
     p for p in (str(TB_DIR), os.environ.get("PYTHONPATH", "")) if p)
 
 
+# Time budgets (wall seconds, on the project's machine with both cores busy,
+# as make test runs them): a test that passes over its budget is failed, so
+# a slow-down breaks the build the day it happens instead of creeping into
+# CI's limit; one still running at HANG_FACTOR times its budget is stopped.
+# The longest test of make test takes about a third of BUDGET_S
+# (docs/verification.md has the figures); a test may state its own with
+# @pytest.mark.budget(seconds).
+BUDGET_S = 120
+SLOW_BUDGET_S = 900
+HANG_FACTOR = 2
+
+# Scheduled first, longest first, so that pytest-xdist does not start a long
+# run on one core while the other has nothing left to do.
+LONG_MODULES = ("test_cosim.py", "test_random.py", "test_twh_core.py", "test_twh_link.py",
+                "test_board_top.py")
+
+
 def pytest_configure(config):
     # `slow`: long end-to-end runs kept out of `make test` (its budget is
-    # 10 minutes on two cores); `make test-slow` runs them, and .ci/run
+    # 5 minutes on two cores); `make test-slow` runs them, and .ci/run
     # runs it after `make test`.
     config.addinivalue_line("markers", "slow: long end-to-end run, make test-slow (in CI)")
+    config.addinivalue_line("markers", "budget(seconds): this test's own wall-time budget")
+
+
+def pytest_collection_modifyitems(config, items):
+    def rank(item):
+        name = Path(str(item.fspath)).name
+        return LONG_MODULES.index(name) if name in LONG_MODULES else len(LONG_MODULES)
+    items.sort(key=rank)    # stable: the order inside a module stays
+
+
+def budget_of(item):
+    mark = item.get_closest_marker("budget")
+    if mark is not None:
+        return float(mark.args[0])
+    return SLOW_BUDGET_S if item.get_closest_marker("slow") else BUDGET_S
+
+
+class _Hang(Exception):
+    pass
+
+
+def _on_alarm(signum, frame):
+    raise _Hang("stopped: still running at its hang limit")
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_call(item):
+    limit = int(budget_of(item) * HANG_FACTOR)
+    old = signal.signal(signal.SIGALRM, _on_alarm)
+    signal.alarm(limit)
+    try:
+        yield
+    finally:
+        signal.alarm(0)
+        signal.signal(signal.SIGALRM, old)
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_makereport(item, call):
+    outcome = yield
+    report = outcome.get_result()
+    if call.when == "call" and report.passed:
+        budget = budget_of(item)
+        if report.duration > budget:
+            report.outcome = "failed"
+            report.longrepr = (f"{item.nodeid} passed but took {report.duration:.1f} s, over its "
+                               f"budget of {budget:.0f} s (tb/conftest.py)")

@@ -30,7 +30,7 @@ class LinkTB:
     def __init__(self, dut, model=None, execute_max_us=10000):
         self.dut = dut
         self.model = model
-        self.monitor = SpecMonitor(dut, execute_max_us=execute_max_us)
+        self.monitor = SpecMonitor(dut, execute_max_us=execute_max_us, pin_log="pins_0.log")
         self.results = Queue()
         self.timing = dict(DEFAULT_TIMING)
 

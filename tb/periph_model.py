@@ -311,6 +311,7 @@ def decode_events(events, baud: float = 31250.0):
 US = 1_000_000          # ps per microsecond
 GAP_PS = 4 * US         # no rising edge for this long = the carrier is off
 EXEC_GAP_US = 2         # during execute: timeout that sees the carrier stop
+                        # (tb_line's QUIET_PS, which drops `carrier`, is the same)
 CHARGE_MIN_US = 7000    # continuous carrier needed to power up
 SYNC_MIN_US = 500       # a gap in this window after the charge arms the receiver
 SYNC_MAX_US = 1500
@@ -407,7 +408,12 @@ class PeripheralModel:
     """cocotb model of one peripheral on tb_link's line.
 
     It watches `dut.line` (rising edges only, plus a 2 us timeout while the
-    execute carrier runs) and drives `dut.periph_o` / `dut.periph_oe`:
+    execute carrier runs) and drives `dut.periph_o` / `dut.periph_oe`.
+    With `line_log` and `carrier` (the LINE_LOG file and the `carrier` flag
+    of the line's tb_line) it reads the rising edges in bulk from the file
+    and wakes only when `carrier` changes, twice a carrier burst; without
+    them it waits on every rising edge of `dut.line`. The edges, and so every
+    decision, are the same either way.
 
     1. charge: a carrier burst of >= 7 ms powers the device (shorter bursts
        are counted in short_bursts; one followed by a sync-like gap is logged
@@ -434,7 +440,8 @@ class PeripheralModel:
         assert model.log[-1].response == ...
     """
 
-    def __init__(self, dut, profile, faults: Optional[Faults] = None):
+    def __init__(self, dut, profile, faults: Optional[Faults] = None,
+                 line_log: Optional[str] = None, carrier=None):
         self.dut = dut
         self.profile = profile
         self.logic = PeripheralLogic(profile)
@@ -445,6 +452,11 @@ class PeripheralModel:
         self._last_edge = -(1 << 62)
         self._next: Optional[Faults] = None
         self._pending = deque()     # edges read ahead, to be taken again
+        self._fresh = deque()       # edges read from line_log, not yet taken
+        self._line_log = line_log
+        self._carrier = carrier
+        self._file = None
+        self._partial = ""
         self._task = None
         self._line = dut.line
         self._rise = RisingEdge(dut.line)
@@ -460,6 +472,9 @@ class PeripheralModel:
         return self.logic.flash
 
     def start(self):
+        if self._line_log is not None and self._file is None:
+            self._file = open(self._line_log)
+            self._skip_log()            # edges before the start are not seen
         self._task = cocotb.start_soon(self._run())
         return self
 
@@ -467,6 +482,9 @@ class PeripheralModel:
         if self._task is not None:
             self._task.cancel()
             self._task = None
+        if self._file is not None:
+            self._file.close()
+            self._file = None
         self._o.value = 0
         self._oe.value = 0
 
@@ -483,12 +501,55 @@ class PeripheralModel:
         """Give an edge back: the next _raw_edge() returns it first."""
         self._pending.appendleft(t)
 
-    async def _raw_edge(self) -> int:
-        """Time of the next rising edge of the line (or the pushed-back one)."""
+    def _read_log(self) -> None:
+        """Queue the rising edges logged since the last read."""
+        text = self._partial + self._file.read()
+        lines = text.split("\n")
+        self._partial = lines.pop()
+        self._fresh.extend(int(x) for x in lines)
+
+    def _skip_log(self) -> None:
+        """Drop every edge logged so far: the model was not listening (the
+        per-edge form misses the edges while it plays its answer, too)."""
+        self._read_log()
+        self._fresh.clear()
+
+    def _take(self) -> Optional[int]:
+        """The next edge already known (pushed back or logged), else None."""
         if self._pending:
             return self._pending.popleft()
-        await self._rise
-        return self._now()
+        if not self._fresh:
+            self._read_log()
+        return self._fresh.popleft() if self._fresh else None
+
+    async def _raw_edge(self) -> int:
+        """Time of the next rising edge of the line (or the pushed-back one)."""
+        if self._file is None:
+            if self._pending:
+                return self._pending.popleft()
+            await self._rise
+            return self._now()
+        while True:
+            t = self._take()
+            if t is not None:
+                return t
+            # a burst starts (the edge is logged) or ends (all of it is)
+            await self._carrier.value_change
+
+    async def _execute_edge(self) -> Optional[int]:
+        """The next rising edge of the execute carrier, or None once the line
+        has had none for EXEC_GAP_US (the carrier stopped)."""
+        if self._file is None:
+            tmr = Timer(EXEC_GAP_US, unit="us")
+            res = await First(self._rise, tmr)
+            return None if res is tmr else self._now()
+        while True:
+            t = self._take()
+            if t is not None:
+                return t
+            if str(self._carrier.value) != "1":
+                return None
+            await self._carrier.value_change
 
     async def _edge(self) -> int:
         """Time of the next rising edge that belongs to a carrier.
@@ -642,11 +703,10 @@ class PeripheralModel:
         while self._pending:                   # never expected; stay exact
             last = self._pending.popleft()
         while True:
-            tmr = Timer(EXEC_GAP_US, unit="us")
-            res = await First(self._rise, tmr)
-            if res is tmr:
+            t = await self._execute_edge()
+            if t is None:
                 break
-            last = self._now()
+            last = t
             if not handled and last >= t_min:
                 # enough energy banked: the firmware executes the command
                 response = self.logic.handle(rec.frame)
@@ -694,3 +754,5 @@ class PeripheralModel:
             if self._host_oe is not None and oe and not rec.collision:
                 if str(self._host_oe.value) == "1":
                     rec.collision = True
+        if self._file is not None:
+            self._skip_log()

@@ -636,8 +636,9 @@ class RandomTB(CoreTB):
         self.retired.append((old_model, old_mon))
         prof = profiles.PROFILES[name]
         pins = self.pins[ch]
-        st.model = PeripheralModel(pins, prof, Faults())
-        st.monitor = SpecMonitor(pins, execute_max_us=prof.exec_max_us, name=f"spec_ch{ch}_{len(self.retired)}")
+        st.model = PeripheralModel(pins, prof, Faults(), line_log=f"line_{ch}.log", carrier=pins.carrier)
+        st.monitor = SpecMonitor(pins, execute_max_us=prof.exec_max_us, name=f"spec_ch{ch}_{len(self.retired)}",
+                                 pin_log=f"pins_{ch}.log")
         st.profile = prof
         st.model_count = 0
         st.mon_exps = []

@@ -10,7 +10,8 @@ Two layers:
 * ``SpecChecker`` - pure Python, fed with pin changes ``feed(t_ps, oe, o)``. It
   is unit-tested without a simulator (``tb/test_spec_monitor.py``).
 * ``SpecMonitor`` - a thin cocotb 2.x wrapper that feeds the checker from the
-  pins' value-change callbacks (one await per pin edge, nothing per clock).
+  pin-change log the test bench's ``tb_line`` writes (read in bulk, nothing
+  per edge or per clock), or from the pins' value-change callbacks.
 
 Measurement definitions (times are kept in picoseconds, reported in us):
 
@@ -793,19 +794,34 @@ class SpecChecker:
 class SpecMonitor:
     """Feeds a SpecChecker from the host pins of the test-bench top.
 
-    One await per pin edge: two coroutines wait on the value-change trigger of
-    ``line_o`` and ``line_oe`` (the non-deprecated form of ``Edge(sig)``), read
-    both pins and the simulation time, and hand them to the checker, which
-    coalesces changes that happen in the same time step.
+    With ``pin_log`` (the file a ``tb_line`` with that PIN_LOG writes: one
+    line "<ps> <oe> <o>" per change of the host's drive), the pin changes are
+    read from the file in bulk whenever the checker is looked at (``checker``,
+    ``transactions``, ``errors``, ``check``, ``reset_seen``,
+    ``allow_out_of_spec``, ``finish``), so nothing wakes Python on a carrier
+    edge. The file is written by the simulator in the same time step as each
+    change and flushed, so a read sees every change up to now. Without it,
+    two coroutines wait on the value-change trigger of ``line_o`` and
+    ``line_oe`` and sample both pins (one Python wake-up per pin edge). Either
+    way the checker coalesces changes that happen in the same time step.
     """
 
-    def __init__(self, dut, execute_max_us: float = EXECUTE_MAX_US_V16, name: str = "spec_monitor"):
+    def __init__(self, dut, execute_max_us: float = EXECUTE_MAX_US_V16, name: str = "spec_monitor",
+                 pin_log: str | None = None):
         self._dut = dut
         self._o = dut.line_o
         self._oe = dut.line_oe
         self.log = logging.getLogger(f"cocotb.{name}")
-        self.checker = SpecChecker(execute_max_us=execute_max_us, log=self.log, now=self._now)
+        self._checker = SpecChecker(execute_max_us=execute_max_us, log=self.log, now=self._now)
         self._tasks = []
+        self._pin_log = pin_log
+        self._file = None        # open while the monitor follows the file
+        self._partial = ""       # a line the simulator has not finished writing
+
+    @property
+    def checker(self) -> SpecChecker:
+        self._drain()
+        return self._checker
 
     @property
     def transactions(self) -> list[Transaction]:
@@ -820,7 +836,22 @@ class SpecMonitor:
 
     def _sample(self) -> None:
         # Anything but a clean 1 (X/Z before reset) counts as 0.
-        self.checker.feed(self._now(), str(self._oe.value) == "1", str(self._o.value) == "1")
+        self._checker.feed(self._now(), str(self._oe.value) == "1", str(self._o.value) == "1")
+
+    def _read_lines(self) -> list[str]:
+        text = self._partial + self._file.read()
+        lines = text.split("\n")
+        self._partial = lines.pop()
+        return lines
+
+    def _drain(self) -> None:
+        """Feed the checker every pin change logged since the last drain."""
+        if self._file is None:
+            return
+        feed = self._checker.feed
+        for line in self._read_lines():
+            t, oe, o = line.split()
+            feed(int(t), oe == "1", o == "1")
 
     async def _watch(self, sig) -> None:
         trigger = sig.value_change
@@ -830,12 +861,20 @@ class SpecMonitor:
             sample()
 
     def start(self) -> None:
-        if self._tasks:
+        if self._tasks or self._file is not None:
             return
+        if self._pin_log is not None:
+            self._file = open(self._pin_log)
+            self._read_lines()  # changes before the start are not observed
         self._sample()  # the state the line starts in
-        self._tasks = [cocotb.start_soon(self._watch(self._o)), cocotb.start_soon(self._watch(self._oe))]
+        if self._file is None:
+            self._tasks = [cocotb.start_soon(self._watch(self._o)), cocotb.start_soon(self._watch(self._oe))]
 
     def stop(self) -> None:
+        self._drain()
+        if self._file is not None:
+            self._file.close()
+            self._file = None
         for task in self._tasks:
             task.cancel()
         self._tasks = []
@@ -857,5 +896,5 @@ class SpecMonitor:
     def finish(self) -> None:
         """Stop observing, close the last transaction and check."""
         self.stop()
-        self.checker.finish(self._now())
+        self._checker.finish(self._now())
         self.check()

@@ -67,15 +67,15 @@ module tb_core #(
     wire [2:0] loe3 = {{(3-CHANNELS){1'b0}}, loe};
     assign {line_o_2, line_o_1, line_o_0}    = lo3;
     assign {line_oe_2, line_oe_1, line_oe_0} = loe3;
-    tb_line u_line0 (
+    tb_line #(.PIN_LOG("pins_0.log"), .LINE_LOG("line_0.log")) u_line0 (
         .host_o(line_o_0), .host_oe(line_oe_0), .periph_o(periph_o_0), .periph_oe(periph_oe_0),
         .stuck_en(stuck_en_0), .stuck_val(stuck_val_0), .glitch(glitch_0), .line(line_0)
     );
-    tb_line u_line1 (
+    tb_line #(.PIN_LOG("pins_1.log"), .LINE_LOG("line_1.log")) u_line1 (
         .host_o(line_o_1), .host_oe(line_oe_1), .periph_o(periph_o_1), .periph_oe(periph_oe_1),
         .stuck_en(stuck_en_1), .stuck_val(stuck_val_1), .glitch(glitch_1), .line(line_1)
     );
-    tb_line u_line2 (
+    tb_line #(.PIN_LOG("pins_2.log"), .LINE_LOG("line_2.log")) u_line2 (
         .host_o(line_o_2), .host_oe(line_oe_2), .periph_o(periph_o_2), .periph_oe(periph_oe_2),
         .stuck_en(stuck_en_2), .stuck_val(stuck_val_2), .glitch(glitch_2), .line(line_2)
     );

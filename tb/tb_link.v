@@ -56,7 +56,7 @@ module tb_link #(
     localparam real HALF_NS = 1.0e9 / (2.0 * CLK_HZ);
     always #(HALF_NS) clk = ~clk;
 
-    tb_line u_line (
+    tb_line #(.PIN_LOG("pins_0.log"), .LINE_LOG("line_0.log")) u_line (
         .host_o(line_o), .host_oe(line_oe), .periph_o(periph_o), .periph_oe(periph_oe),
         .stuck_en(stuck_en), .stuck_val(stuck_val), .glitch(glitch), .line(line)
     );

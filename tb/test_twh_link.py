@@ -26,7 +26,8 @@ VECTORS = Path(__file__).resolve().parent / "vectors"
 
 async def make_tb(dut, profile_name="o2_v18", faults=None, **timing):
     prof = profiles.PROFILES[profile_name]
-    model = PeripheralModel(dut, prof, faults or Faults())
+    model = PeripheralModel(dut, prof, faults or Faults(), line_log="line_0.log",
+                            carrier=dut.u_line.carrier)
     tb = LinkTB(dut, model, execute_max_us=prof.exec_max_us)
     await tb.start()
     if timing:
@@ -525,7 +526,7 @@ TESTS_12MHZ = [
 @pytest.mark.parametrize("testcase", TESTS_12MHZ)
 def test_link(testcase):
     simrun.run("tb_link", "test_twh_link", f"link_{testcase}",
-               parameters={"CLK_HZ": 12_000_000}, testcase=testcase,
+               parameters={"CLK_HZ": 4_000_000}, testcase=testcase,
                tb_sources=LINK_SOURCES)
 
 
