@@ -54,20 +54,33 @@ lint: deps
 	done
 	@echo "lint clean"
 
+# --maxschedchunk=1: a core that is free takes the next test (the long ones
+# come first, tb/conftest.py), rather than each core a fixed quarter of the
+# list; --durations: the slowest tests of every run, so a slow-down shows
+# the day it happens; tb/conftest.py fails any test over its stated budget
+PYTEST_ARGS := -n $(JOBS) --maxschedchunk=1 --durations=12 --durations-min=5
+
 pytest: deps
-	$(PY) -m pytest -n $(JOBS) -m "not slow" tb
+	$(PY) -m pytest $(PYTEST_ARGS) -m "not slow" tb
 
 # the long end-to-end runs (constrained random with coverage, the PC tool
 # against the simulated board): CI runs them after make test
 .PHONY: test-slow
 test-slow: deps
-	$(PY) -m pytest -n $(JOBS) -m slow tb
+	$(PY) -m pytest $(PYTEST_ARGS) -m slow tb
 
 # the C driver: cmocka unit tests (plain and ASan/UBSan), Cortex-M0 size
 swtest: deps
 	$(MAKE) -C sw test size
 
-test: check-regs check-wavedrom lint fusesoc swtest $(TEST_EXTRA) pytest
+# make test: the static checks and short runs two at a time, then the cocotb
+# suite on both cores; scripts/stages.py ends with each stage's wall time
+empty :=
+space := $(empty) $(empty)
+TEST_STATIC = check-regs check-wavedrom lint fusesoc swtest $(TEST_EXTRA)
+test: deps
+	@MAKE="$(MAKE)" python3 scripts/stages.py --jobs $(JOBS) --title "make test" \
+	    $(subst $(space),+,$(strip $(TEST_STATIC))) pytest
 
 # Files generated from rdl/twh_regs.rdl (scripts/gen_regs.sh): committed, and
 # check-regs (part of test) fails when they are stale or the header does not

@@ -15,8 +15,11 @@
 // step. "" logs nothing (the Verilated soak uses this line too).
 `default_nettype none
 module tb_line #(
+    // used only outside Verilator (the logs and the carrier flag serve cocotb)
+    /* verilator lint_off UNUSEDPARAM */
     parameter PIN_LOG  = "",
     parameter LINE_LOG = ""
+    /* verilator lint_on UNUSEDPARAM */
 ) (
     input  wire host_o,
     input  wire host_oe,

@@ -121,11 +121,10 @@ def libtwh():
     return T.LIB_PATH
 
 
-# Both runs carry the marker slow (driver_session about 190 s of CPU,
-# driver_errors, every error path through the driver, about 210 s): make
-# test-slow runs them, in CI. make test keeps the C driver against the core
-# through soak-smoke (the Verilated core) and the C unit tests.
-@pytest.mark.parametrize("testcase", [pytest.param("driver_session", marks=pytest.mark.slow),
+# driver_session (about 100 s of CPU) runs in make test; driver_errors,
+# every error path through the driver (about 160 s), carries the marker
+# slow: make test-slow runs it, in CI.
+@pytest.mark.parametrize("testcase", ["driver_session",
                                       pytest.param("driver_errors", marks=pytest.mark.slow)])
 def test_cosim(libtwh, testcase):
     simrun.run("tb_core", "test_cosim", f"cosim_{testcase}",

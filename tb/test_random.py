@@ -100,16 +100,28 @@ import simrun  # noqa: E402
 CLK_HZ = 4_000_000
 
 
-def _run(bus, n, seed, cov_out, cov_in=None, require=True):
+def _run(bus, n, seed, cov_out, cov_in=None, require=True, build="random"):
     env = {"TWH_BUS": str(bus), "TWH_CHANNELS": "3", "TWH_FIFO_DEPTH": "16",
            "TWH_CLK_HZ": str(CLK_HZ), "TWH_RANDOM_RUN_SEED": str(seed),
            "TWH_RANDOM_RUN_N": str(n), "TWH_RANDOM_RUN_COV_OUT": cov_out,
            "TWH_RANDOM_RUN_REQUIRE": "1" if require else "0"}
     if cov_in:
         env["TWH_RANDOM_RUN_COV_IN"] = str(cov_in)
-    simrun.run("tb_core", "test_random", f"random_{'wb' if bus == 0 else 'axil'}",
+    simrun.run("tb_core", "test_random", f"{build}_{'wb' if bus == 0 else 'axil'}",
                parameters={"CLK_HZ": CLK_HZ, "CHANNELS": 3, "FIFO_DEPTH": 16, "BUS": bus},
                testcase="random_regression", tb_sources=["tb_core.v"], extra_env=env)
+
+
+# make test's run: one seed (TWH_SEED, else the default), QUICK_N agent
+# commands on the Wishbone build. Every result is checked as in the full
+# run; coverage is written and reported but not required (a third of the
+# commands cannot hit every bin: test_random, in make test-slow, requires
+# them all).
+QUICK_N = 10
+
+
+def test_random_one_seed():
+    _run(0, QUICK_N, rt.seed_from_env(), "random-quick", require=False, build="random_quick")
 
 
 @pytest.mark.slow

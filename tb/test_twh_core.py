@@ -1011,7 +1011,7 @@ CASES = [
     ("regmap_access", 1, 4_000_000, 3, 16),
     ("regmap_access", 0, 4_000_000, 1, 4),
     ("three_channels", 0, 4_000_000, 3, 16),
-    ("fifo_edges", 0, 12_000_000, 3, 16),
+    ("fifo_edges", 0, 4_000_000, 3, 16),
     ("fifo_edges", 1, 4_000_000, 3, 4),
     ("factory_protection", 0, 4_000_000, 3, 16),
     ("timing_registers", 0, 4_000_000, 3, 16),
