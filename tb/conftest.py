@@ -64,7 +64,7 @@ def _on_alarm(signum, frame):
 
 @pytest.hookimpl(hookwrapper=True)
 def pytest_runtest_call(item):
-    limit = int(budget_of(item) * HANG_FACTOR)
+    limit = max(1, int(budget_of(item) * HANG_FACTOR))
     old = signal.signal(signal.SIGALRM, _on_alarm)
     signal.alarm(limit)
     try:
