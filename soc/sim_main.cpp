@@ -96,17 +96,9 @@ int main(int argc, char **argv) {
                 line_buf += c;
             }
         }
-        const unsigned line = d.line, lo = d.line_o, loe = d.line_oe;
-        unsigned po = 0, poe = 0;
-        for (int ch = 0; ch < NCH; ++ch) {
-            soak::Periph &p = *periph[static_cast<size_t>(ch)];
-            p.step(cyc, line >> ch & 1u, loe >> ch & 1u);
-            mon[static_cast<size_t>(ch)].step(cyc, lo >> ch & 1u, loe >> ch & 1u);
-            po |= static_cast<unsigned>(p.o) << ch;
-            poe |= static_cast<unsigned>(p.oe) << ch;
-        }
-        d.periph_o = static_cast<uint8_t>(po);
-        d.periph_oe = static_cast<uint8_t>(poe);
+        const soak::LineDrive drv = soak::step_channels(periph, mon, cyc, d.line, d.line_o, d.line_oe);
+        d.periph_o = static_cast<uint8_t>(drv.o);
+        d.periph_oe = static_cast<uint8_t>(drv.oe);
         d.clk = 0;
         d.eval();
     }

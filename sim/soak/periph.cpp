@@ -400,4 +400,18 @@ void HostMonitor::edge(uint64_t cyc, bool o, bool oe) {
     }
 }
 
+LineDrive step_channels(std::vector<std::unique_ptr<Periph>> &periph,
+                        std::vector<HostMonitor> &mon, uint64_t cyc, unsigned line,
+                        unsigned line_o, unsigned line_oe) {
+    LineDrive d;
+    for (size_t ch = 0; ch < periph.size(); ++ch) {
+        Periph &p = *periph[ch];
+        p.step(cyc, line >> ch & 1u, line_oe >> ch & 1u);
+        mon[ch].step(cyc, line_o >> ch & 1u, line_oe >> ch & 1u);
+        d.o |= static_cast<unsigned>(p.o) << ch;
+        d.oe |= static_cast<unsigned>(p.oe) << ch;
+    }
+    return d;
+}
+
 }  // namespace soak

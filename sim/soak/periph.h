@@ -13,6 +13,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <random>
 #include <string>
 #include <vector>
@@ -158,5 +159,15 @@ private:
     bool in_listen_ = false, in_turn_ = false;
     uint64_t listen_start_ = 0, turn_start_ = 0;
 };
+
+// One clock of every channel's model and host monitor, from the pins the
+// Verilated top left (bit ch of line, line_o, line_oe); returns the models'
+// drive as the same bit vectors. The soak and the LiteX SoC both step so.
+struct LineDrive {
+    unsigned o = 0, oe = 0;
+};
+LineDrive step_channels(std::vector<std::unique_ptr<Periph>> &periph,
+                        std::vector<HostMonitor> &mon, uint64_t cyc, unsigned line,
+                        unsigned line_o, unsigned line_oe);
 
 }  // namespace soak

@@ -304,17 +304,9 @@ void Soak::tick() {
     d.clk = 1;
     d.eval();
     ++cyc_;
-    const unsigned line = d.line, lo = d.line_o, loe = d.line_oe;
-    unsigned po = 0, poe = 0;
-    for (int ch = 0; ch < NCH; ++ch) {
-        soak::Periph &p = *periph_[static_cast<size_t>(ch)];
-        p.step(cyc_, line >> ch & 1u, loe >> ch & 1u);
-        mon_[static_cast<size_t>(ch)].step(cyc_, lo >> ch & 1u, loe >> ch & 1u);
-        po |= static_cast<unsigned>(p.o) << ch;
-        poe |= static_cast<unsigned>(p.oe) << ch;
-    }
-    d.periph_o = static_cast<uint8_t>(po);
-    d.periph_oe = static_cast<uint8_t>(poe);
+    const soak::LineDrive drv = soak::step_channels(periph_, mon_, cyc_, d.line, d.line_o, d.line_oe);
+    d.periph_o = static_cast<uint8_t>(drv.o);
+    d.periph_oe = static_cast<uint8_t>(drv.oe);
     d.clk = 0;
     d.eval();
 }
