@@ -19,10 +19,12 @@ os.environ["PYTHONPATH"] = os.pathsep.join(
 # as make test runs them): a test that passes over its budget is failed, so
 # a slow-down breaks the build the day it happens instead of creeping into
 # CI's limit; one still running at HANG_FACTOR times its budget is stopped.
-# The longest test of make test takes about a third of BUDGET_S
-# (docs/verification.md has the figures); a test may state its own with
+# Each budget is about three times what the test takes on a normal day
+# (docs/verification.md has the figures), so a machine running slow for a
+# day does not fail the build but a test that grew does; the longest tests
+# of make test (about 55 s) use BUDGET_S, a longer one states its own with
 # @pytest.mark.budget(seconds).
-BUDGET_S = 120
+BUDGET_S = 180
 SLOW_BUDGET_S = 900
 HANG_FACTOR = 2
 

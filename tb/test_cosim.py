@@ -121,10 +121,10 @@ def libtwh():
     return T.LIB_PATH
 
 
-# driver_session (about 100 s of CPU) runs in make test; driver_errors,
+# driver_session (about 110 s) runs in make test; driver_errors,
 # every error path through the driver (about 160 s), carries the marker
 # slow: make test-slow runs it, in CI.
-@pytest.mark.parametrize("testcase", ["driver_session",
+@pytest.mark.parametrize("testcase", [pytest.param("driver_session", marks=pytest.mark.budget(360)),
                                       pytest.param("driver_errors", marks=pytest.mark.slow)])
 def test_cosim(libtwh, testcase):
     simrun.run("tb_core", "test_cosim", f"cosim_{testcase}",
