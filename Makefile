@@ -46,6 +46,11 @@ lint: deps
 	    echo "verilator -Wall $$top CHANNELS=$$ch"; \
 	    verilator --lint-only -Wall -Irtl $(RTL) --top-module $$top -GCHANNELS=$$ch; \
 	done; done
+	@set -e; for top in twh_wb twh_axil; do for ch in 1 3; do \
+	    echo "verilator -Wall $$top CHANNELS=$$ch lean (PROG_TIMING=0 POLLING=0)"; \
+	    verilator --lint-only -Wall -Irtl $(RTL) --top-module $$top -GCHANNELS=$$ch \
+	        -GPROG_TIMING=0 -GPOLLING=0; \
+	done; done
 	@mkdir -p build/lint
 	@set -e; for top in twh_wb twh_axil; do \
 	    echo "yosys: synth_ice40 $$top"; \

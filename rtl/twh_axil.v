@@ -5,7 +5,9 @@
 module twh_axil #(
     parameter integer CLK_HZ     = 48_000_000,
     parameter integer CHANNELS   = 1,
-    parameter integer FIFO_DEPTH = 16
+    parameter integer FIFO_DEPTH = 16,
+    parameter integer PROG_TIMING = 1,   // twh_core: features a fixed board may leave out
+    parameter integer POLLING     = 1
 ) (
     input  wire                clk,
     input  wire                rst,
@@ -46,7 +48,8 @@ module twh_axil #(
     wire [31:0] rdata;
     reg         was_write;
 
-    twh_core #(.CLK_HZ(CLK_HZ), .CHANNELS(CHANNELS), .FIFO_DEPTH(FIFO_DEPTH)) u_core (
+    twh_core #(.CLK_HZ(CLK_HZ), .CHANNELS(CHANNELS), .FIFO_DEPTH(FIFO_DEPTH),
+               .PROG_TIMING(PROG_TIMING), .POLLING(POLLING)) u_core (
         .clk(clk), .rst(rst),
         .reg_req(do_write || do_read), .reg_we(do_write),
         .reg_addr(do_write ? s_axil_awaddr : s_axil_araddr),

@@ -19,7 +19,9 @@
 `default_nettype none
 `include "twh_defs.vh"
 module twh_channel #(
-    parameter integer CLK_HZ = 48_000_000
+    parameter integer CLK_HZ      = 48_000_000,
+    parameter integer PROG_TIMING = 1,     // 0: timing fixed at the defaults (read-only)
+    parameter integer POLLING     = 1      // 0: no poller (POLL_CTRL reads 0)
 ) (
     input  wire        clk,
     input  wire        rst,
@@ -83,6 +85,10 @@ module twh_channel #(
     // registers' enables start from its flip-flops; `wdata_ok` holds its
     // verdicts, one per register.
     wire ok0 = wdata_ok[0], ok1 = wdata_ok[1], ok2 = wdata_ok[2], ok_poll = wdata_ok[3];
+    // without the poller POLL_CTRL reads 0 (polling off)
+    localparam [7:0]  POLL_CMD_DEF      = (POLLING != 0) ? 8'h44 : 8'h00;
+    localparam [7:0]  POLL_PAYLOAD_DEF  = (POLLING != 0) ? 8'hAA : 8'h00;
+    localparam [14:0] POLL_INTERVAL_DEF = (POLLING != 0) ? 15'd1000 : 15'd0;
 
     always @(posedge clk) begin
         if (rst) begin
@@ -94,24 +100,26 @@ module twh_channel #(
             t_turnaround  <= `TWH_TURNAROUND_DEF;
             t_below       <= 6'd0;             // the defaults lie in their windows
             t_above       <= 6'd0;
-            poll_cmd      <= 8'h44;
-            poll_payload  <= 8'hAA;
-            poll_interval <= 15'd1000;
+            poll_cmd      <= POLL_CMD_DEF;
+            poll_payload  <= POLL_PAYLOAD_DEF;
+            poll_interval <= POLL_INTERVAL_DEF;
             poll_en       <= 1'b0;
         end else begin
-            if (wr_timing0 && ok0) begin
+            // a build without a feature keeps the reset values: the
+            // registers are constants that synthesis folds away
+            if (PROG_TIMING != 0 && wr_timing0 && ok0) begin
                 t_charge   <= wdata[15:0]; t_sync       <= wdata[31:16];
                 {t_above[1], t_below[1], t_above[0], t_below[0]} <= wdata_cmp;
             end
-            if (wr_timing1 && ok1) begin
+            if (PROG_TIMING != 0 && wr_timing1 && ok1) begin
                 t_preamble <= wdata[15:0]; t_execute    <= wdata[31:16];
                 {t_above[3], t_below[3], t_above[2], t_below[2]} <= wdata_cmp;
             end
-            if (wr_timing2 && ok2) begin
+            if (PROG_TIMING != 0 && wr_timing2 && ok2) begin
                 t_listen   <= wdata[15:0]; t_turnaround <= wdata[31:16];
                 {t_above[5], t_below[5], t_above[4], t_below[4]} <= wdata_cmp;
             end
-            if (wr_poll_ctrl && ok_poll) begin
+            if (POLLING != 0 && wr_poll_ctrl && ok_poll) begin
                 poll_cmd      <= wdata[7:0];
                 poll_payload  <= wdata[15:8];
                 poll_interval <= wdata[30:16];
@@ -206,7 +214,7 @@ module twh_channel #(
     wire [3:0]  e_status;
     wire [5:0]  e_tag;
     wire [2:0]  phase;
-    wire        e_is_poll = e_tag[5];
+    wire        e_is_poll = (POLLING != 0) && e_tag[5];
 
     twh_link #(.CLK_HZ(CLK_HZ), .TAG_W(6)) u_link (
         .clk(clk), .rst(rst),

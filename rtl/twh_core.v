@@ -26,7 +26,12 @@
 module twh_core #(
     parameter integer CLK_HZ     = 48_000_000,
     parameter integer CHANNELS   = 1,
-    parameter integer FIFO_DEPTH = 16
+    parameter integer FIFO_DEPTH = 16,
+    // Features a fixed board may leave out (docs/integration.md, "Lean
+    // builds"); the register map stays the same, the registers of a left-out
+    // feature are read-only and say so in VERSION.
+    parameter integer PROG_TIMING = 1,   // 0: TIMING0-2 fixed at the defaults, writes refused
+    parameter integer POLLING     = 1    // 0: no poller; POLL_CTRL writes with EN = 1 refused
 ) (
     input  wire                clk,
     input  wire                rst,
@@ -59,6 +64,8 @@ module twh_core #(
     localparam [11:0] DEPTH12  = FIFO_DEPTH[11:0];
     localparam integer CLK_KHZ_I = CLK_HZ / 1000;
     localparam [19:0] CLK_KHZ  = CLK_KHZ_I[19:0];
+    localparam [0:0]  FIXED_TIMING = (PROG_TIMING == 0);
+    localparam [0:0]  NO_POLLING   = (POLLING == 0);
 
     // ------------------------------------------------------------ millisecond tick
     wire us_tick, us_fall_unused;
@@ -103,8 +110,9 @@ module twh_core #(
     );
     // the command is checked only when polling is switched on, so writing 0
     // always stops polling
-    wire        i_win_p = !reg_wdata[31] || (i_cmd >= 8'h40 && i_cmd <= 8'h44) ||
-                                            (i_cmd >= 8'h46 && i_cmd <= 8'h49);
+    wire        i_win_p = !reg_wdata[31] || ((POLLING != 0) &&
+                                             ((i_cmd >= 8'h40 && i_cmd <= 8'h44) ||
+                                              (i_cmd >= 8'h46 && i_cmd <= 8'h49)));
     // erase (0x4A/4B) or write (0x80-0xFF) addressed to words 0x00-0x1F
     wire [8:0]  i_erase_addr = {i_cmd[0], reg_wdata[15:8]};     // payload low byte
     wire [8:0]  i_write_addr = {reg_wdata[23:22], i_cmd[6:0]};  // payload bits 15:14
@@ -343,13 +351,13 @@ module twh_core #(
     wire       cw_in = !q_cmp_nz;
     wire [3:0] cw_ok = {q_win_p, {3{lab || cw_in}}};
     // the write the channel does not take, in the clock it would have
-    wire       refused = (q_wr_t && q_cmp_nz && !lab) || q_ref_p;
+    wire       refused = (q_wr_t && ((q_cmp_nz && !lab) || PROG_TIMING == 0)) || q_ref_p;
 
     genvar n;
     generate
         for (n = 0; n < CHANNELS; n = n + 1) begin : g_ch
             wire sel = q_ch[n];
-            twh_channel #(.CLK_HZ(CLK_HZ)) u_ch (
+            twh_channel #(.CLK_HZ(CLK_HZ), .PROG_TIMING(PROG_TIMING), .POLLING(POLLING)) u_ch (
                 .clk(clk), .rst(rst), .ms_tick(ms_tick),
                 .enable(enable), .idle_charge(idle_charge[n]), .lab(lab),
                 .wdata(q_wdata), .wdata_ok(cw_ok), .wdata_cmp(q_cmp),
@@ -457,7 +465,9 @@ module twh_core #(
                 ie_poll       <= q_wdata[2];
                 res_threshold <= q_wdata[15:8];
             end
-            if (q_lab_key)  lab           <= q_key_lab;
+            // the lab unlock only lets timing out of its windows: a build
+            // with fixed timing has none
+            if (q_lab_key)  lab           <= q_key_lab && PROG_TIMING != 0;
             if (q_fact_key) factory_armed <= q_key_fact;
             if (push_ok) factory_armed <= 1'b0;        // the next command only
             // hardware sets win over a clear in the same clock
@@ -496,7 +506,7 @@ module twh_core #(
     wire        r_res_pop  = q_r_res_pop;
     wire [31:0] g_rdata =
           ({32{q_r_id}}         & `TWH_MAGIC)
-        | ({32{q_r_version}}    & {factory_armed, lab, 10'd0, CH_COUNT,
+        | ({32{q_r_version}}    & {factory_armed, lab, 8'd0, NO_POLLING, FIXED_TIMING, CH_COUNT,
                                    `TWH_VERSION_MAJOR, `TWH_VERSION_MINOR})
         | ({32{q_r_params}}     & {CLK_KHZ, DEPTH12})
         | ({32{q_r_ctrl}}       & {16'd0, idle_charge, 7'd0, enable})

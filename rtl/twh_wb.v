@@ -11,7 +11,9 @@
 module twh_wb #(
     parameter integer CLK_HZ     = 48_000_000,
     parameter integer CHANNELS   = 1,
-    parameter integer FIFO_DEPTH = 16
+    parameter integer FIFO_DEPTH = 16,
+    parameter integer PROG_TIMING = 1,   // twh_core: features a fixed board may leave out
+    parameter integer POLLING     = 1
 ) (
     input  wire                clk,
     input  wire                rst,
@@ -46,7 +48,8 @@ module twh_wb #(
     end
     wire answer = ack && wb_cyc_i && !drop;
 
-    twh_core #(.CLK_HZ(CLK_HZ), .CHANNELS(CHANNELS), .FIFO_DEPTH(FIFO_DEPTH)) u_core (
+    twh_core #(.CLK_HZ(CLK_HZ), .CHANNELS(CHANNELS), .FIFO_DEPTH(FIFO_DEPTH),
+               .PROG_TIMING(PROG_TIMING), .POLLING(POLLING)) u_core (
         .clk(clk), .rst(rst),
         .reg_req(req), .reg_we(wb_we_i), .reg_addr(wb_adr_i),
         .reg_wdata(wb_dat_i), .reg_wstrb(wb_sel_i),

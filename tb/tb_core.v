@@ -11,6 +11,8 @@ module tb_core #(
     parameter integer CLK_HZ     = 12_000_000,
     parameter integer CHANNELS   = 3,        // 1..3 here
     parameter integer FIFO_DEPTH = 16,
+    parameter integer PROG_TIMING = 1,       // the core's feature parameters
+    parameter integer POLLING    = 1,
     parameter integer BUS        = 0         // 0 Wishbone, 1 AXI4-Lite
 ) (
     input  wire        rst,
@@ -127,7 +129,8 @@ module tb_core #(
 
     generate
         if (BUS == 0) begin : g_wb
-            twh_wb #(.CLK_HZ(CLK_HZ), .CHANNELS(CHANNELS), .FIFO_DEPTH(FIFO_DEPTH)) dut (
+            twh_wb #(.CLK_HZ(CLK_HZ), .CHANNELS(CHANNELS), .FIFO_DEPTH(FIFO_DEPTH),
+                     .PROG_TIMING(PROG_TIMING), .POLLING(POLLING)) dut (
                 .clk(clk), .rst(rst),
                 .wb_adr_i(wb_adr_i), .wb_dat_i(wb_dat_i), .wb_dat_o(wb_dat_o),
                 .wb_we_i(wb_we_i), .wb_sel_i(wb_sel_i), .wb_stb_i(wb_stb_i),
@@ -142,7 +145,8 @@ module tb_core #(
             assign s_axil_arready = 1'b0; assign s_axil_rdata = 32'd0;
             assign s_axil_rresp = 2'b00; assign s_axil_rvalid = 1'b0;
         end else begin : g_axil
-            twh_axil #(.CLK_HZ(CLK_HZ), .CHANNELS(CHANNELS), .FIFO_DEPTH(FIFO_DEPTH)) dut (
+            twh_axil #(.CLK_HZ(CLK_HZ), .CHANNELS(CHANNELS), .FIFO_DEPTH(FIFO_DEPTH),
+                     .PROG_TIMING(PROG_TIMING), .POLLING(POLLING)) dut (
                 .clk(clk), .rst(rst),
                 .s_axil_awaddr(s_axil_awaddr), .s_axil_awprot(s_axil_awprot),
                 .s_axil_awvalid(s_axil_awvalid), .s_axil_awready(s_axil_awready),

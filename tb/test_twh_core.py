@@ -988,20 +988,78 @@ async def reset_mid_traffic(dut):
     await tb.finish()
 
 
+# ============================================================== 10. lean build
+@cocotb.test()
+async def lean_build(dut):
+    """PROG_TIMING = 0 and POLLING = 0 (docs/integration.md, "Lean builds"):
+    VERSION says so; TIMING0-2 read the defaults and refuse every write
+    (in or out of the window, lab key or not); POLL_CTRL and POLL_RESULT
+    read 0, a write switching polling on is refused, one switching it off is
+    taken; no poll ever runs; commands run with the default phase lengths."""
+    tb = await CoreTB(dut, cells=("o2_v18", "o2_v15", "co2")).start()
+    ver = await tb.fields("VERSION")
+    assert (ver.FIXED_TIMING, ver.NO_POLLING, ver.LAB_UNLOCKED) == (1, 1, 0), ver
+    for ch in range(tb.channels):
+        for rname in ("TIMING0", "TIMING1", "TIMING2"):
+            assert await tb.read(rname, ch) == regmap.fields_reset(tb.reg(rname, ch)), (rname, ch)
+    # in the window, at its edges and outside it: refused alike
+    for ch in range(tb.channels):
+        for us in ({"charge": 9000}, {"sync": 1100}, {"preamble": 1800, "execute": 4500},
+                   {"listen": 2500}, {"turnaround": 100}):
+            await tb.set_timing(ch, expect_refused=True, **us)
+            assert await tb.errors() == tb.pack("ERRORS", VALUE_REFUSED=1), (ch, us)
+            await tb.clear_errors()
+    # the lab key has nothing to unlock
+    await tb.write("LAB_KEY", LAB_KEY)
+    assert await tb.field("VERSION", "LAB_UNLOCKED") == 0
+    await tb.set_timing(0, expect_refused=True, sync=600)
+    await tb.write("LAB_KEY", 0)
+    await tb.clear_errors()
+
+    # ---- no poller: reads 0, switching on is refused, off is taken
+    for ch in range(tb.channels):
+        assert await tb.read("POLL_CTRL", ch) == 0
+        assert await tb.read("POLL_RESULT", ch) == 0
+    await tb.write_fields("POLL_CTRL", 0, CMD=0x44, PAYLOAD=0xAA, INTERVAL_MS=1, EN=1)
+    assert await tb.read("POLL_CTRL", 0) == 0
+    assert await tb.errors() == tb.pack("ERRORS", VALUE_REFUSED=1)
+    await tb.clear_errors()
+    await tb.write_fields("POLL_CTRL", 0, CMD=0x44, PAYLOAD=0xAA, INTERVAL_MS=1, EN=0)
+    assert await tb.errors() == 0
+    assert await tb.read("POLL_CTRL", 0) == 0
+    await Timer(3, "ms")                      # three poll intervals, had it been on
+    assert all(len(tb.txns(ch)) == 0 for ch in range(tb.channels))
+    assert await tb.read("POLL_READY") == 0
+
+    # ---- commands run, with the fixed (default) phase lengths
+    for ch in range(tb.channels):
+        prof = tb.profiles[ch]
+        r = await tb.command(0x41, ch=ch, tag=ch + 1)
+        assert r.status == OK and r.data == prof.fw_byte << 8 | prof.type_byte, r
+        tx = tb.txns(ch)[-1]
+        got = (round(tx.charge_us), round(tx.sync_us), round(tx.preamble_us),
+               round(tx.execute_us), round(tx.listen_us))
+        want = tuple(DEFAULT_TIMING[k] for k in ("charge", "sync", "preamble", "execute", "listen"))
+        assert got == want, (ch, got, want)
+    assert all(len(tb.txns(ch)) == 1 for ch in range(tb.channels))
+    await tb.finish()
+
+
 # ============================================================== pytest
 import simrun  # noqa: E402
 
 CORE_SOURCES = ["tb_core.v"]
 
 
-def run_core(testcase, bus, clk_hz=12_000_000, channels=3, fifo_depth=16, env=None):
+def run_core(testcase, bus, clk_hz=12_000_000, channels=3, fifo_depth=16, env=None,
+             features=None):
     name = f"core_{testcase}_{'wb' if bus == 0 else 'axil'}_{channels}ch"
     extra = {"TWH_BUS": str(bus), "TWH_CHANNELS": str(channels),
              "TWH_FIFO_DEPTH": str(fifo_depth), "TWH_CLK_HZ": str(clk_hz)}
     extra.update(env or {})
     simrun.run("tb_core", "test_twh_core", name,
                parameters={"CLK_HZ": clk_hz, "CHANNELS": channels,
-                           "FIFO_DEPTH": fifo_depth, "BUS": bus},
+                           "FIFO_DEPTH": fifo_depth, "BUS": bus, **(features or {})},
                testcase=testcase, tb_sources=CORE_SOURCES, extra_env=extra)
 
 
@@ -1021,7 +1079,10 @@ CASES = [
     ("irq_and_flush", 1, 4_000_000, 3, 16),
     ("reset_mid_traffic", 0, 4_000_000, 3, 16),
     ("reset_mid_traffic", 1, 4_000_000, 3, 16),
+    ("lean_build", 1, 4_000_000, 3, 16),      # with LEAN's parameters
 ]
+# the feature parameters of a fixed-timing board without polling
+LEAN = {"PROG_TIMING": 0, "POLLING": 0}
 
 
 def _id(c):
@@ -1031,4 +1092,5 @@ def _id(c):
 @pytest.mark.parametrize("testcase,bus,clk_hz,channels,fifo_depth", CASES, ids=[_id(c) for c in CASES])
 def test_core(testcase, bus, clk_hz, channels, fifo_depth):
     env = {"TWH_RANDOM_ACCESSES": "1000"} if (testcase == "random_traffic" and bus == 1) else None
-    run_core(testcase, bus, clk_hz=clk_hz, channels=channels, fifo_depth=fifo_depth, env=env)
+    run_core(testcase, bus, clk_hz=clk_hz, channels=channels, fifo_depth=fifo_depth, env=env,
+             features=LEAN if testcase == "lean_build" else None)

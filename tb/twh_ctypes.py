@@ -41,6 +41,7 @@ class Twh(C.Structure):
     _fields_ = [("plat", Platform), ("timeout_us", C.c_uint32), ("poll_us", C.c_uint32),
                 ("clk_khz", C.c_uint32), ("fifo_depth", C.c_uint16), ("channels", C.c_uint8),
                 ("version_major", C.c_uint8), ("version_minor", C.c_uint8),
+                ("fixed_timing", C.c_uint8),
                 ("next_tag", C.c_uint8), ("stash_head", C.c_uint8), ("stash_count", C.c_uint8),
                 ("stash", Result * STASH_SIZE)]
 

@@ -126,6 +126,7 @@ typedef struct twh {
     uint8_t  channels;       /* VERSION.CHANNELS (0 until init succeeded) */
     uint8_t  version_major;
     uint8_t  version_minor;
+    uint8_t  fixed_timing;   /* VERSION.FIXED_TIMING: a lean build, timing read-only */
     uint8_t  next_tag;
     uint8_t  stash_head;     /* stash: ring of results popped while a  */
     uint8_t  stash_count;    /* blocking helper waited; oldest at head */

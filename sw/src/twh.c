@@ -99,6 +99,7 @@ int twh_init(twh_t *t, const twh_platform_t *plat)
     v = rd(t, REG(VERSION));
     t->version_major = (uint8_t)GET(v, VERSION, MAJOR);
     t->version_minor = (uint8_t)GET(v, VERSION, MINOR);
+    t->fixed_timing = (uint8_t)GET(v, VERSION, FIXED_TIMING);
     ch = (uint8_t)GET(v, VERSION, CHANNELS);
     v = rd(t, REG(PARAMS));
     t->fifo_depth = (uint16_t)GET(v, PARAMS, FIFO_DEPTH);
@@ -389,6 +390,10 @@ int twh_set_execute_us(twh_t *t, uint8_t ch, uint16_t us)
         return TWH_ERR_BAD_ARG;
     v = (rd(t, off) & ~BIT(CHANNEL_T__TIMING1, EXECUTE_US)) |
         PUT(us, CHANNEL_T__TIMING1, EXECUTE_US);
+    /* a fixed-timing build refuses every timing write: ask nothing of it
+     * (no VALUE_REFUSED left behind), only say whether it already runs us */
+    if (t->fixed_timing)
+        return rd(t, off) == v ? TWH_OK : TWH_ERR_REFUSED;
     wr(t, off, v);
     return rd(t, off) == v ? TWH_OK : TWH_ERR_REFUSED;
 }
@@ -401,10 +406,16 @@ uint16_t twh_execute_us_for(const twh_fw_t *fw)
 int twh_negotiate(twh_t *t, uint8_t ch, twh_fw_t *fw)
 {
     twh_fw_t f;
-    int rc = twh_set_execute_us(t, ch, TWH_EXECUTE_SAFE_US);
+    int rc;
 
     if (!fw)
         fw = &f;
+    /* a fixed-timing build runs the default execute phase, which is
+     * TWH_EXECUTE_SAFE_US: right for every firmware, so there is nothing
+     * to set before or after the question */
+    if (t->fixed_timing)
+        return twh_firmware(t, ch, fw);
+    rc = twh_set_execute_us(t, ch, TWH_EXECUTE_SAFE_US);
     if (!rc)
         rc = twh_firmware(t, ch, fw);
     if (rc)

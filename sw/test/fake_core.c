@@ -217,7 +217,8 @@ uint32_t fake_read32(void *ctx, uint32_t off)
     if (off == OFF(VERSION))
         return P(f->minor, VERSION, MINOR) | P(f->major, VERSION, MAJOR) |
                P(f->channels, VERSION, CHANNELS) | (f->lab ? M(VERSION, LAB_UNLOCKED) : 0) |
-               (f->factory_armed ? M(VERSION, FACTORY_UNLOCKED) : 0);
+               (f->factory_armed ? M(VERSION, FACTORY_UNLOCKED) : 0) |
+               (f->fixed_timing ? M(VERSION, FIXED_TIMING) : 0);
     if (off == OFF(PARAMS)) return P(f->depth, PARAMS, FIFO_DEPTH) | P(f->clk_khz, PARAMS, CLK_KHZ);
     if (off == OFF(CTRL)) return f->ctrl;
     if (off == OFF(STATUS)) return status_reg(f);
@@ -280,7 +281,7 @@ static void write_timing(fake_core_t *f, unsigned ch, unsigned reg, uint32_t v)
         ok = in(lo, 1800, 2200) && in(hi, 3500, 10000);
     else
         ok = lo >= 2000u && hi >= 2000u;
-    if ((ok || f->lab) && !f->refuse_timing)
+    if ((ok || f->lab) && !f->refuse_timing && !f->fixed_timing)
         f->timing[ch][reg] = v;
     else
         f->errors |= M(ERRORS, VALUE_REFUSED);
@@ -333,7 +334,7 @@ void fake_write32(void *ctx, uint32_t off, uint32_t v)
                          M(IRQ_EN, RES_THRESHOLD));
         return;
     }
-    if (off == OFF(LAB_KEY)) { f->lab = v == LAB_KEY_VALUE; return; }
+    if (off == OFF(LAB_KEY)) { f->lab = !f->fixed_timing && v == LAB_KEY_VALUE; return; }
     if (off == OFF(FACTORY_KEY)) { f->factory_armed = v == FACTORY_KEY_VALUE; return; }
     if (off == OFF(ID) || off == OFF(VERSION) || off == OFF(PARAMS) || off == OFF(STATUS) ||
         off == OFF(LEVELS) || off == OFF(IRQ_STATUS) || off == OFF(POLL_READY) ||

@@ -63,6 +63,7 @@ typedef struct fake_core {
     uint32_t timing[8][3];
     int lab, factory_armed;
     int refuse_timing;         /* refuse every timing write (test knob) */
+    int fixed_timing;          /* a PROG_TIMING = 0 build: VERSION says so, writes refused */
     /* FIFOs */
     fake_cmd_t cmdq[FAKE_FIFO_MAX];
     unsigned cmd_n;

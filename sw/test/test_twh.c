@@ -1003,6 +1003,31 @@ static void negotiate_case(env_t *e, uint8_t fw_byte, uint16_t want_us, int want
     assert_int_equal(e->f.timing[0][1] & 0xFFFF, 2000);
 }
 
+/* A lean build (PROG_TIMING = 0): the driver sees VERSION.FIXED_TIMING,
+ * asks the firmware at the fixed default execute phase and never writes a
+ * timing register, so no VALUE_REFUSED is left behind. */
+static void test_negotiate_fixed_timing(void **state)
+{
+    twh_fw_t fw;
+    unsigned n;
+
+    E->f.fixed_timing = 1;
+    assert_int_equal(twh_init(&E->t, &E->p), TWH_OK);
+    assert_int_equal(E->t.fixed_timing, 1);
+    E->f.dev[0].fw_byte = 0x12;                 /* v18 would want 6 ms */
+    n = E->f.n_line;
+    assert_int_equal(twh_negotiate(&E->t, 0, &fw), TWH_OK);
+    assert_int_equal(fw.version, 18);
+    assert_int_equal(E->f.n_line, n + 1);
+    assert_int_equal(E->f.line[n].execute_us, TWH_EXECUTE_SAFE_US);
+    assert_int_equal(execute_us(E, 0), TWH_EXECUTE_SAFE_US);
+    /* the fixed value is reported as set, any other as refused */
+    assert_int_equal(twh_set_execute_us(&E->t, 0, TWH_EXECUTE_SAFE_US), TWH_OK);
+    assert_int_equal(twh_set_execute_us(&E->t, 0, 6000), TWH_ERR_REFUSED);
+    assert_int_equal(execute_us(E, 0), TWH_EXECUTE_SAFE_US);
+    assert_int_equal(E->f.errors, 0);
+}
+
 static void test_negotiate(void **state)
 {
     negotiate_case(E, 0x0F, 4000, 15);  /* v15: <= 4.5 ms */
@@ -1300,6 +1325,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_helpers, setup, teardown),
         cmocka_unit_test_setup_teardown(test_write_verify, setup, teardown),
         cmocka_unit_test_setup_teardown(test_negotiate, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_negotiate_fixed_timing, setup, teardown),
         cmocka_unit_test_setup_teardown(test_negotiate_v15_device, setup, teardown),
         cmocka_unit_test_setup_teardown(test_negotiate_errors, setup, teardown),
         cmocka_unit_test_setup_teardown(test_cal_append_simple, setup, teardown),
