@@ -1,13 +1,8 @@
-// One channel of the bus core: its timing and polling registers, a one-entry
-// command slot fed by the core's dispatcher, the autonomous poller, and the
-// twh_link engine.
+// One channel of the bus core: its polling registers, a one-entry command
+// slot fed by the core's dispatcher, the autonomous poller, and the twh_link
+// engine. The channel's timing registers live in the core's twh_timing,
+// shared by all channels, which hands the engine its clamped phase lengths.
 //
-// - Timing writes are refused as a whole when a field lies outside the spec
-//   window (unless the lab unlock is on): the register keeps its value. The
-//   verdict is the core's (`wdata_ok`), and so is the REFUSED error. The
-//   engine clamps as well, as a last defence (a value taken under the lab
-//   unlock runs clamped once it is off): each field keeps the core's window
-//   flags (`wdata_cmp`) beside it, and the engine clamps by them.
 // - A poll write that switches polling on is refused (`wdata_ok`, the
 //   core's verdict) unless the command is read-only (0x40-0x44,
 //   0x46-0x49): a poller must never erase or write a sensor's flash.
@@ -20,7 +15,6 @@
 `include "twh_defs.vh"
 module twh_channel #(
     parameter integer CLK_HZ      = 48_000_000,
-    parameter integer PROG_TIMING = 1,     // 0: timing fixed at the defaults (read-only)
     parameter integer POLLING     = 1      // 0: no poller (POLL_CTRL reads 0)
 ) (
     input  wire        clk,
@@ -28,20 +22,16 @@ module twh_channel #(
     input  wire        ms_tick,
     input  wire        enable,
     input  wire        idle_charge,
-    input  wire        lab,
     // register writes, decoded by the core (one-clock strobes)
     input  wire [31:0] wdata,
-    input  wire [3:0]  wdata_ok,       // per register TIMING0-2, POLL_CTRL: wdata is in its
-                                       // window (or lab); POLL_CTRL: off or read-only
-    input  wire [3:0]  wdata_cmp,      // the timing register written: {hi above, hi below,
-                                       // lo above, lo below} its windows (twh_window)
-    input  wire        wr_timing0,
-    input  wire        wr_timing1,
-    input  wire        wr_timing2,
+    input  wire        wdata_ok,       // POLL_CTRL: wdata switches polling off or names
+                                       // a read-only command (the core's verdict)
     input  wire        wr_poll_ctrl,
-    output wire [31:0] timing0,
-    output wire [31:0] timing1,
-    output wire [31:0] timing2,
+    // phase lengths from twh_timing
+    output wire [2:0]  nx_fld,
+    input  wire        dur_we,
+    input  wire [15:0] dur,
+    input  wire [2:0]  dur_fld,
     output wire [31:0] poll_ctrl,
     output wire [31:0] poll_result,
     output wire [31:0] state,
@@ -69,10 +59,6 @@ module twh_channel #(
     output wire        busy
 );
     // ------------------------------------------------------------ registers
-    reg [15:0] t_charge, t_sync, t_preamble, t_execute, t_listen, t_turnaround;
-    // per field, in the engine's order (charge, sync, preamble, execute,
-    // listen, turnaround): below its window's minimum, above its maximum
-    reg [5:0]  t_below, t_above;
     reg [7:0]  poll_cmd, poll_payload;
     reg [14:0] poll_interval;
     reg        poll_en;
@@ -82,9 +68,8 @@ module twh_channel #(
 
     // The core checks each written value once for every channel (from the
     // bus data, a clock before the write reaches the channel), so the
-    // registers' enables start from its flip-flops; `wdata_ok` holds its
-    // verdicts, one per register.
-    wire ok0 = wdata_ok[0], ok1 = wdata_ok[1], ok2 = wdata_ok[2], ok_poll = wdata_ok[3];
+    // register's enable starts from its flip-flops.
+    wire ok_poll = wdata_ok;
     // without the poller POLL_CTRL reads 0 (polling off)
     localparam [7:0]  POLL_CMD_DEF      = (POLLING != 0) ? 8'h44 : 8'h00;
     localparam [7:0]  POLL_PAYLOAD_DEF  = (POLLING != 0) ? 8'hAA : 8'h00;
@@ -92,33 +77,13 @@ module twh_channel #(
 
     always @(posedge clk) begin
         if (rst) begin
-            t_charge      <= `TWH_CHARGE_DEF;
-            t_sync        <= `TWH_SYNC_DEF;
-            t_preamble    <= `TWH_PREAMBLE_DEF;
-            t_execute     <= `TWH_EXECUTE_DEF;
-            t_listen      <= `TWH_LISTEN_DEF;
-            t_turnaround  <= `TWH_TURNAROUND_DEF;
-            t_below       <= 6'd0;             // the defaults lie in their windows
-            t_above       <= 6'd0;
             poll_cmd      <= POLL_CMD_DEF;
             poll_payload  <= POLL_PAYLOAD_DEF;
             poll_interval <= POLL_INTERVAL_DEF;
             poll_en       <= 1'b0;
         end else begin
-            // a build without a feature keeps the reset values: the
-            // registers are constants that synthesis folds away
-            if (PROG_TIMING != 0 && wr_timing0 && ok0) begin
-                t_charge   <= wdata[15:0]; t_sync       <= wdata[31:16];
-                {t_above[1], t_below[1], t_above[0], t_below[0]} <= wdata_cmp;
-            end
-            if (PROG_TIMING != 0 && wr_timing1 && ok1) begin
-                t_preamble <= wdata[15:0]; t_execute    <= wdata[31:16];
-                {t_above[3], t_below[3], t_above[2], t_below[2]} <= wdata_cmp;
-            end
-            if (PROG_TIMING != 0 && wr_timing2 && ok2) begin
-                t_listen   <= wdata[15:0]; t_turnaround <= wdata[31:16];
-                {t_above[5], t_below[5], t_above[4], t_below[4]} <= wdata_cmp;
-            end
+            // without the poller the registers keep their reset values:
+            // constants that synthesis folds away
             if (POLLING != 0 && wr_poll_ctrl && ok_poll) begin
                 poll_cmd      <= wdata[7:0];
                 poll_payload  <= wdata[15:8];
@@ -218,11 +183,8 @@ module twh_channel #(
 
     twh_link #(.CLK_HZ(CLK_HZ), .TAG_W(6)) u_link (
         .clk(clk), .rst(rst),
-        .cfg_charge_us(t_charge), .cfg_sync_us(t_sync),
-        .cfg_preamble_us(t_preamble), .cfg_execute_us(t_execute),
-        .cfg_listen_us(t_listen), .cfg_turnaround_us(t_turnaround),
-        .cfg_below(t_below), .cfg_above(t_above),
-        .cfg_idle_charge(idle_charge), .cfg_unlock(lab),
+        .nx_fld(nx_fld), .dur_we(dur_we), .dur_in(dur), .dur_fld_in(dur_fld),
+        .cfg_idle_charge(idle_charge),
         .s_cmd_valid(issue_q), .s_cmd_ready(eng_ready),
         .s_cmd_code(use_poll_q ? poll_cmd : slot_cmd),
         .s_cmd_payload(use_poll_q ? {8'h00, poll_payload} : slot_payload),
@@ -262,9 +224,6 @@ module twh_channel #(
         end
     end
 
-    assign timing0     = {t_sync, t_charge};
-    assign timing1     = {t_execute, t_preamble};
-    assign timing2     = {t_turnaround, t_listen};
     assign poll_ctrl   = {poll_en, poll_interval, poll_payload, poll_cmd};
     assign poll_result = {poll_count, poll_status, poll_data};
     assign state       = {27'd0, slot_full, busy, phase};

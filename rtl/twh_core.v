@@ -137,8 +137,9 @@ module twh_core #(
     always @(posedge clk) begin
         for (i_n = 0; i_n < CHANNELS; i_n = i_n + 1) begin
             q_ch[i_n]   <= !rst && i_wr && (i_blk[2:0] == i_n[2:0]);
-            q_r_cr[i_n*6 +: 6] <= (!rst && i_rd && i_ch_ok && reg_addr[4:2] <= 3'd5 &&
-                                   i_blk[2:0] == i_n[2:0]) ? 6'b000001 << reg_addr[4:2] : 6'b000000;
+            q_r_cr[i_n*3 +: 3] <= (!rst && i_rd && i_ch_ok && reg_addr[4:2] >= 3'd3 &&
+                                   reg_addr[4:2] <= 3'd5 && i_blk[2:0] == i_n[2:0])
+                                  ? 3'b001 << (reg_addr[4:2] - 3'd3) : 3'b000;
         end
     end
 
@@ -151,10 +152,11 @@ module twh_core #(
     reg        q_r_id, q_r_version, q_r_params, q_r_ctrl, q_r_status, q_r_levels,
                q_r_errors, q_r_irq_en, q_r_irq_status, q_r_poll_ready, q_r_res_info,
                q_r_res_pop;
-    // channel n's register k (0-5) read: one flag per pair, so each term of
-    // the read is one select and one register bit
-    reg [CHANNELS*6-1:0] q_r_cr;
-    reg [3:0]  q_cmp;            // i_cmp of the request
+    // channel n's register 3 + k (POLL_CTRL, POLL_RESULT, STATE) read: one
+    // flag per pair, so each term of the read is one select and one
+    // register bit; TIMING0-2 of every channel come from twh_timing (q_r_t)
+    reg [CHANNELS*3-1:0] q_r_cr;
+    reg        q_r_t;
     reg        q_cmp_nz;         // ... not all zero: a field lies outside its window
     reg        q_win_p;          // i_win_p of the request
     // The REFUSED verdict's parts, taken on the way in so that the error
@@ -163,7 +165,7 @@ module twh_core #(
     // and a POLL_CTRL write there that must be refused (lab does not
     // apply to it).
     reg        q_wr_t, q_ref_p;
-    reg [3:0]  q_wt;             // channel register 0-3 of an existing channel addressed
+    reg        q_wp;             // POLL_CTRL of an existing channel addressed
     reg [CHANNELS-1:0] q_ch;     // a write to this channel's block (one-hot)
     reg        q_ctrl, q_flush, q_errors, q_irq_en, q_poll_ready, q_push, q_pop, q_lab_key, q_fact_key;
     reg        q_push_ch;        // q_push naming an existing channel: the FIFO's push
@@ -179,10 +181,10 @@ module twh_core #(
         q_full     <= (reg_wstrb == 4'hF);
         q_addr     <= reg_addr;
         q_wdata    <= reg_wdata;
-        q_cmp      <= i_cmp;
         q_cmp_nz   <= (i_cmp != 4'd0);
         q_win_p    <= i_win_p;
         q_wr_t     <= !rst && i_wr && i_ch_ok && reg_addr[4:2] <= 3'd2;
+        q_r_t      <= !rst && i_rd && i_ch_ok && reg_addr[4:2] <= 3'd2;
         q_ref_p    <= !rst && i_wr && i_ch_ok && reg_addr[4:2] == 3'd3 && !i_win_p;
         q_key_lab  <= (reg_wdata == `TWH_LAB_KEY);
         q_key_fact <= (reg_wdata == `TWH_FACTORY_KEY);
@@ -204,7 +206,7 @@ module twh_core #(
         q_r_res_info   <= !rst && i_grd && i_g == R_RES_INFO && res_valid_next;
         q_r_res_pop    <= !rst && i_grd && i_g == R_RES_POP && res_valid_next;
         q_mapped   <= i_is_ch ? (i_ch_ok && reg_addr[4:2] <= 3'd5) : (i_g != 4'd15);
-        q_wt       <= (i_ch_ok && reg_addr[4:2] <= 3'd3) ? 4'b0001 << reg_addr[3:2] : 4'b0000;
+        q_wp       <= i_ch_ok && reg_addr[4:2] == 3'd3;
         // write (or, for RES_POP, read) strobes of the global registers
         q_ctrl       <= !rst && i_wr && !i_is_ch && i_g == R_CTRL;
         q_flush      <= !rst && i_wr && !i_is_ch && i_g == R_CTRL && reg_wdata[1];
@@ -341,32 +343,50 @@ module twh_core #(
     end
 
     // ------------------------------------------------------------ channels
-    wire [CHANNELS*32-1:0] c_t0, c_t1, c_t2, c_pc, c_pr, c_st;
+    wire [CHANNELS*32-1:0] c_pc, c_pr, c_st;
     wire [CHANNELS-1:0] c_sample, c_poll_err, c_busy;
+    wire [CHANNELS*3-1:0] c_nx_fld;
 
     // A channel register write starts from the request stage: its value's
     // window flags were taken on the way in, for the register addressed (the
     // only one whose strobe is raised); the lab unlock applies now, so a
     // LAB_KEY write just ahead counts.
-    wire       cw_in = !q_cmp_nz;
-    wire [3:0] cw_ok = {q_win_p, {3{lab || cw_in}}};
-    // the write the channel does not take, in the clock it would have
-    wire       refused = (q_wr_t && ((q_cmp_nz && !lab) || PROG_TIMING == 0)) || q_ref_p;
+    wire       t_take  = (lab || !q_cmp_nz) && PROG_TIMING != 0;
+    // the write the channel or twh_timing does not take, in the clock it would have
+    wire       refused = (q_wr_t && !t_take) || q_ref_p;
+
+    // ------------------------------------------------------------ timing registers
+    wire [31:0] t_rdata;
+    wire [CHANNELS-1:0] t_dur_we;
+    wire [15:0] t_dur;
+    wire [2:0]  t_dur_fld;
+    // twh_timing takes a write with its request, on the verdict taken from
+    // the bus data (the same as t_take will be, with the lab unlock as a
+    // LAB_KEY write carried out in this clock leaves it), so that a read
+    // right behind it finds the word written
+    wire       i_lab  = q_lab_key ? (q_key_lab && PROG_TIMING != 0) : lab;
+    wire       i_twr  = !rst && i_wr && i_ch_ok && reg_addr[4:2] <= 3'd2 &&
+                        (i_lab || i_cmp == 4'd0) && PROG_TIMING != 0;
+    twh_timing #(.CHANNELS(CHANNELS)) u_timing (
+        .clk(clk), .rst(rst), .lab(lab),
+        .wr(i_twr), .wr_ch(i_blk[2:0]), .wr_reg(reg_addr[3:2]),
+        .wr_data(reg_wdata), .wr_cmp(i_cmp),
+        .rd_ch(i_blk[2:0]), .rd_reg(reg_addr[3:2]), .rd_data(t_rdata),
+        .nx_fld(c_nx_fld), .dur_we(t_dur_we), .dur(t_dur), .dur_fld(t_dur_fld)
+    );
 
     genvar n;
     generate
         for (n = 0; n < CHANNELS; n = n + 1) begin : g_ch
             wire sel = q_ch[n];
-            twh_channel #(.CLK_HZ(CLK_HZ), .PROG_TIMING(PROG_TIMING), .POLLING(POLLING)) u_ch (
+            twh_channel #(.CLK_HZ(CLK_HZ), .POLLING(POLLING)) u_ch (
                 .clk(clk), .rst(rst), .ms_tick(ms_tick),
-                .enable(enable), .idle_charge(idle_charge[n]), .lab(lab),
-                .wdata(q_wdata), .wdata_ok(cw_ok), .wdata_cmp(q_cmp),
-                .wr_timing0(sel && q_wt[0]),
-                .wr_timing1(sel && q_wt[1]),
-                .wr_timing2(sel && q_wt[2]),
-                .wr_poll_ctrl(sel && q_wt[3]),
-                .timing0(c_t0[n*32 +: 32]), .timing1(c_t1[n*32 +: 32]),
-                .timing2(c_t2[n*32 +: 32]), .poll_ctrl(c_pc[n*32 +: 32]),
+                .enable(enable), .idle_charge(idle_charge[n]),
+                .wdata(q_wdata), .wdata_ok(q_win_p),
+                .wr_poll_ctrl(sel && q_wp),
+                .nx_fld(c_nx_fld[n*3 +: 3]), .dur_we(t_dur_we[n]), .dur(t_dur),
+                .dur_fld(t_dur_fld),
+                .poll_ctrl(c_pc[n*32 +: 32]),
                 .poll_result(c_pr[n*32 +: 32]), .state(c_st[n*32 +: 32]),
                 .poll_sample(c_sample[n]),
                 .poll_error(c_poll_err[n]),
@@ -525,12 +545,12 @@ module twh_core #(
     reg [31:0] c_rdata;
     integer    r_n;
     always @(*) begin
-        c_rdata = 32'd0;
+        c_rdata = {32{q_r_t}} & t_rdata;
         for (r_n = 0; r_n < CHANNELS; r_n = r_n + 1)
             c_rdata = c_rdata
-                | ({32{q_r_cr[r_n*6 + 0]}} & c_t0[r_n*32 +: 32]) | ({32{q_r_cr[r_n*6 + 1]}} & c_t1[r_n*32 +: 32])
-                | ({32{q_r_cr[r_n*6 + 2]}} & c_t2[r_n*32 +: 32]) | ({32{q_r_cr[r_n*6 + 3]}} & c_pc[r_n*32 +: 32])
-                | ({32{q_r_cr[r_n*6 + 4]}} & c_pr[r_n*32 +: 32]) | ({32{q_r_cr[r_n*6 + 5]}} & c_st[r_n*32 +: 32]);
+                | ({32{q_r_cr[r_n*3 + 0]}} & c_pc[r_n*32 +: 32])
+                | ({32{q_r_cr[r_n*3 + 1]}} & c_pr[r_n*32 +: 32])
+                | ({32{q_r_cr[r_n*3 + 2]}} & c_st[r_n*32 +: 32]);
     end
 
     always @(posedge clk) begin
@@ -603,13 +623,12 @@ module twh_core #(
             // REFUSED is raised by exactly the channel writes not taken
             assert(refused == (wr && ch_exists && ch_reg <= 3'd3 && !f_cw_ok));
 `endif
-            assert(q_cmp_nz == (q_cmp != 4'd0));
             // the decode taken on the way in is that of the request's own
             // address and data
             assert(q_wr == (q_req && q_we && q_full) && q_rd == (q_req && !q_we));
             assert(q_mapped == ((!is_ch && g_reg != 4'd15) || ch_exists));
-            assert(q_wt == ((ch_exists && ch_reg <= 3'd3) ? 4'b0001 << ch_reg[1:0] : 4'b0000));
-            if (q_wt != 4'b0000)
+            assert(q_wp == (ch_exists && ch_reg == 3'd3));
+            if (q_wp || q_wr_t)
                 assert(q_ch == (wr ? {{(CHANNELS-1){1'b0}}, 1'b1} << ch_sel : {CHANNELS{1'b0}}));
             // the flag is the count's
             assert(flushing == (flush_left != {LW{1'b0}}));

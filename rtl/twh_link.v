@@ -5,13 +5,15 @@
 // status and never reaches the line, so its result keeps its place in order.
 //
 // Phases: idle, charge, sync, preamble, command, execute, listen, turnaround
-// (codes in twh_defs.vh). Durations come in as microseconds and are clamped
-// into the spec window when each phase is loaded (see docs/protocol.md);
-// cfg_unlock (lab work only) takes them as they are, zero read as one.
-// Each duration comes with its window flags (below the minimum, above the
-// maximum: twh_window, computed once where the value is written), so the
-// clamp is a choice, with no comparator on the path into the counter.
-// The command phase is not programmable: it lasts exactly its 33 or 44 bits.
+// (codes in twh_defs.vh). The programmable lengths (microseconds, already
+// clamped into the spec window unless the lab unlock is on) come from
+// twh_timing, shared by all channels: the engine names on nx_fld the field
+// its next programmable phase will load, and takes a length (dur_we) only
+// with that field's name (dur_fld_in). A phase whose length has not come
+// yet waits for it a tick at a time; at the fetch's pace that can only
+// happen to a lab-short phase of a few clocks. Zero is read as one.
+// The command phase is not programmable: it lasts exactly its 33 or 44
+// bits; the idle after a turnaround lasts one tick.
 //
 // Everything steps on the carrier tick, so every phase is a whole number of
 // carrier periods, bursts always start with a full high half and the line
@@ -34,18 +36,13 @@ module twh_link #(
     input  wire             clk,
     input  wire             rst,
     // timing, microseconds
-    input  wire [15:0]      cfg_charge_us,
-    input  wire [15:0]      cfg_sync_us,
-    input  wire [15:0]      cfg_preamble_us,
-    input  wire [15:0]      cfg_execute_us,
-    input  wire [15:0]      cfg_listen_us,
-    input  wire [15:0]      cfg_turnaround_us,
+    output wire [2:0]       nx_fld,         // 1 charge .. 6 turnaround: needed next
+    input  wire             dur_we,
+    input  wire [15:0]      dur_in,
+    input  wire [2:0]       dur_fld_in,
     // bit k for duration k (0 charge, 1 sync, 2 preamble, 3 execute,
     // 4 listen, 5 turnaround): it lies below / above its spec window
-    input  wire [5:0]       cfg_below,
-    input  wire [5:0]       cfg_above,
     input  wire             cfg_idle_charge,
-    input  wire             cfg_unlock,
     // command stream
     input  wire             s_cmd_valid,
     output wire             s_cmd_ready,
@@ -176,62 +173,35 @@ module twh_link #(
     // least one carrier period, which is at least 4 clocks, so the value has
     // settled long before it is loaded, and neither the six-way pick nor
     // the clamp's choice sit on one clock's path.
-    localparam [2:0] W_CHARGE = 3'd1, W_SYNC = 3'd2, W_PREAMBLE = 3'd3,
-                     W_EXECUTE = 3'd4, W_LISTEN = 3'd5, W_TURN = 3'd6;
-    reg [15:0] nx_v, pick_v;
-    reg [2:0]  nx_w;                // which window applies (0: a fixed length, none)
-    reg        nx_b, nx_a;          // the value lies below / above that window
-    // the pick below is an AND-OR of ph_oh's bits
-    always @(*) begin
-        nx_v = ({16{ph_oh[`TWH_PH_IDLE]}}     & cfg_charge_us)
-             | ({16{ph_oh[`TWH_PH_CHARGE]}}   & cfg_sync_us)
-             | ({16{ph_oh[`TWH_PH_SYNC]}}     & cfg_preamble_us)
-             | ({16{ph_oh[`TWH_PH_PREAMBLE]}} & (cmd_r[7] ? 16'd1408 : 16'd1056))  // 44 / 33 bits of 32 us
-             | ({16{ph_oh[`TWH_PH_COMMAND]}}  & cfg_execute_us)
-             | ({16{ph_oh[`TWH_PH_EXECUTE]}}  & cfg_listen_us)
-             | ({16{ph_oh[`TWH_PH_LISTEN]}}   & cfg_turnaround_us)
-             | {15'd0, ph_oh[`TWH_PH_TURNAROUND]};   // idle: no hold-off after a turnaround
-        nx_w = ({3{ph_oh[`TWH_PH_IDLE]}}    & W_CHARGE)
-             | ({3{ph_oh[`TWH_PH_CHARGE]}}  & W_SYNC)
-             | ({3{ph_oh[`TWH_PH_SYNC]}}    & W_PREAMBLE)
-             | ({3{ph_oh[`TWH_PH_COMMAND]}} & W_EXECUTE)
-             | ({3{ph_oh[`TWH_PH_EXECUTE]}} & W_LISTEN)
-             | ({3{ph_oh[`TWH_PH_LISTEN]}}  & W_TURN);
-        nx_b = (ph_oh[`TWH_PH_IDLE]    & cfg_below[0]) | (ph_oh[`TWH_PH_CHARGE]  & cfg_below[1])
-             | (ph_oh[`TWH_PH_SYNC]    & cfg_below[2]) | (ph_oh[`TWH_PH_COMMAND] & cfg_below[3])
-             | (ph_oh[`TWH_PH_EXECUTE] & cfg_below[4]) | (ph_oh[`TWH_PH_LISTEN]  & cfg_below[5]);
-        nx_a = (ph_oh[`TWH_PH_IDLE]    & cfg_above[0]) | (ph_oh[`TWH_PH_CHARGE]  & cfg_above[1])
-             | (ph_oh[`TWH_PH_SYNC]    & cfg_above[2]) | (ph_oh[`TWH_PH_COMMAND] & cfg_above[3])
-             | (ph_oh[`TWH_PH_EXECUTE] & cfg_above[4]) | (ph_oh[`TWH_PH_LISTEN]  & cfg_above[5]);
-    end
-    // The window picked travels as its code; its bounds are constants of
-    // the code. Under the lab unlock both flags are 0, so the value goes
-    // through as it is and the code goes unused.
-    reg [2:0]  pick_w;
-    reg        pick_b, pick_a;
-    reg [15:0] w_lo, w_hi;
-    always @(*) begin
-        case (pick_w)
-            W_CHARGE:   begin w_lo = `TWH_CHARGE_MIN;     w_hi = `TWH_US_MAX;       end
-            W_SYNC:     begin w_lo = `TWH_SYNC_MIN;       w_hi = `TWH_SYNC_MAX;     end
-            W_PREAMBLE: begin w_lo = `TWH_PREAMBLE_MIN;   w_hi = `TWH_PREAMBLE_MAX; end
-            W_EXECUTE:  begin w_lo = `TWH_EXECUTE_MIN;    w_hi = `TWH_EXECUTE_MAX;  end
-            W_LISTEN:   begin w_lo = `TWH_LISTEN_MIN;     w_hi = `TWH_US_MAX;       end
-            W_TURN:     begin w_lo = `TWH_TURNAROUND_MIN; w_hi = `TWH_US_MAX;       end
-            default:    begin w_lo = 16'd1;               w_hi = `TWH_US_MAX;       end
-        endcase
-    end
+    // The field the next programmable phase loads (twh_timing's codes:
+    // 1 charge, 2 sync, 3 preamble, 4 execute, 5 listen, 6 turnaround). The
+    // command phase and the idle after a turnaround have fixed lengths, so
+    // preamble already names execute and turnaround names charge.
+    assign nx_fld[0] = ph_oh[`TWH_PH_IDLE] | ph_oh[`TWH_PH_SYNC] | ph_oh[`TWH_PH_EXECUTE] |
+                       ph_oh[`TWH_PH_TURNAROUND];
+    assign nx_fld[1] = ph_oh[`TWH_PH_CHARGE] | ph_oh[`TWH_PH_SYNC] | ph_oh[`TWH_PH_LISTEN];
+    assign nx_fld[2] = ph_oh[`TWH_PH_PREAMBLE] | ph_oh[`TWH_PH_COMMAND] |
+                       ph_oh[`TWH_PH_EXECUTE] | ph_oh[`TWH_PH_LISTEN];
+    reg [2:0] dur_fld;      // the field dur_next holds (0: none yet)
+    // dur_next holds the field needed, as of a clock ago: registered, off
+    // the path into the phase registers. It cannot be stale at a tick:
+    // nx_fld changes only at ticks, which are at least four clocks apart,
+    // and a length fetched for the field before a change arrives within two
+    // clocks of it and clears the flag a clock later, before the next tick.
+    reg dur_ok;
     always @(posedge clk) begin
-        pick_v <= nx_v;
-        pick_w <= nx_w;
-        pick_b <= !cfg_unlock && nx_b;
-        pick_a <= !cfg_unlock && nx_a;
-        // a free value of zero is loaded as it is: the counter takes it
-        // for 1 (no zero detect here: it was ECP5's critical path)
-        if (pick_b)      dur_next <= w_lo;
-        else if (pick_a) dur_next <= w_hi;
-        else             dur_next <= pick_v;
+        if (rst) begin
+            dur_fld <= 3'd0;
+        end else if (dur_we) begin
+            dur_next <= dur_in;
+            dur_fld  <= dur_fld_in;
+        end
+        dur_ok <= !rst && (dur_fld == nx_fld);
     end
+    // the fixed lengths: the command's 44 or 33 bits of 32 us, one tick of
+    // idle after a turnaround
+    wire        fixed_len = ph_oh[`TWH_PH_PREAMBLE] || ph_oh[`TWH_PH_TURNAROUND];
+    wire [15:0] fixed_cnt = ph_oh[`TWH_PH_TURNAROUND] ? 16'd1 : cmd_r[7] ? 16'd1408 : 16'd1056;
 
     // cnt moves only on a carrier tick and ticks are a period (at least 4
     // clocks) apart, so its decodes are registered: at every tick they are
@@ -335,7 +305,7 @@ module twh_link #(
                 if (ph_oh[`TWH_PH_IDLE]) begin
                     if (!last) begin
                         cnt <= cnt - 1'b1;           // post-reset hold-off
-                    end else if (pending && pend_q) begin
+                    end else if (pending && pend_q && dur_ok) begin
                         pending  <= 1'b0;
                         ph       <= `TWH_PH_CHARGE;
                         ph_oh    <= {ph_oh[6:0], ph_oh[7]};
@@ -345,10 +315,10 @@ module twh_link #(
                     end
                 end else if (!last) begin
                     cnt <= cnt - 1'b1;
-                end else begin
+                end else if (ph_oh[`TWH_PH_PREAMBLE] || ph_oh[`TWH_PH_TURNAROUND] || dur_ok) begin
                     ph    <= ph + 1'b1;              // phases run in code order
                     ph_oh <= {ph_oh[6:0], ph_oh[7]};
-                    cnt <= dur_next;
+                    cnt   <= fixed_len ? fixed_cnt : dur_next;
                     if (ph_oh[`TWH_PH_PREAMBLE]) begin
                         bitn  <= 4'd0;
                         byten <= 2'd0;

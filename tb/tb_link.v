@@ -62,26 +62,34 @@ module tb_link #(
     );
     assign line_i = line && !dropout;
 
-    // the window flags the engine clamps by, as the core makes them
-    // (one twh_window per timing register)
-    wire [5:0] cfg_below, cfg_above;
-    twh_window u_w0 (.sel(2'd0), .value({cfg_sync_us, cfg_charge_us}),
-                     .lo_below(cfg_below[0]), .lo_above(cfg_above[0]),
-                     .hi_below(cfg_below[1]), .hi_above(cfg_above[1]));
-    twh_window u_w1 (.sel(2'd1), .value({cfg_execute_us, cfg_preamble_us}),
-                     .lo_below(cfg_below[2]), .lo_above(cfg_above[2]),
-                     .hi_below(cfg_below[3]), .hi_above(cfg_above[3]));
-    twh_window u_w2 (.sel(2'd2), .value({cfg_turnaround_us, cfg_listen_us}),
-                     .lo_below(cfg_below[4]), .lo_above(cfg_above[4]),
-                     .hi_below(cfg_below[5]), .hi_above(cfg_above[5]));
+    // The phase lengths reach the engine as in the core: through
+    // twh_timing, here with one channel, its words written from the cfg_*
+    // inputs one register per clock, with their window flags from the
+    // core's twh_window, and cfg_unlock as the lab unlock.
+    reg  [1:0]  t_reg = 2'd0;
+    always @(posedge clk) t_reg <= (t_reg == 2'd2) ? 2'd0 : t_reg + 2'd1;
+    wire [31:0] t_word = (t_reg == 2'd0) ? {cfg_sync_us, cfg_charge_us} :
+                         (t_reg == 2'd1) ? {cfg_execute_us, cfg_preamble_us} :
+                                           {cfg_turnaround_us, cfg_listen_us};
+    wire [3:0]  t_cmp;
+    twh_window u_w (.sel(t_reg), .value(t_word),
+                    .lo_below(t_cmp[0]), .lo_above(t_cmp[1]),
+                    .hi_below(t_cmp[2]), .hi_above(t_cmp[3]));
+    wire [2:0]  nx_fld, dur_fld;
+    wire [15:0] dur;
+    wire        dur_we;
+    wire [31:0] t_rd_unused;
+    twh_timing #(.CHANNELS(1)) u_timing (
+        .clk(clk), .rst(rst), .lab(cfg_unlock),
+        .wr(1'b1), .wr_ch(3'd0), .wr_reg(t_reg), .wr_data(t_word), .wr_cmp(t_cmp),
+        .rd_ch(3'd0), .rd_reg(2'd0), .rd_data(t_rd_unused),
+        .nx_fld(nx_fld), .dur_we(dur_we), .dur(dur), .dur_fld(dur_fld)
+    );
 
     twh_link #(.CLK_HZ(CLK_HZ), .TAG_W(8)) dut (
         .clk(clk), .rst(rst),
-        .cfg_charge_us(cfg_charge_us), .cfg_sync_us(cfg_sync_us),
-        .cfg_preamble_us(cfg_preamble_us), .cfg_execute_us(cfg_execute_us),
-        .cfg_listen_us(cfg_listen_us), .cfg_turnaround_us(cfg_turnaround_us),
-        .cfg_below(cfg_below), .cfg_above(cfg_above),
-        .cfg_idle_charge(cfg_idle_charge), .cfg_unlock(cfg_unlock),
+        .nx_fld(nx_fld), .dur_we(dur_we), .dur_in(dur), .dur_fld_in(dur_fld),
+        .cfg_idle_charge(cfg_idle_charge),
         .s_cmd_valid(s_cmd_valid), .s_cmd_ready(s_cmd_ready),
         .s_cmd_code(s_cmd_code), .s_cmd_payload(s_cmd_payload), .s_cmd_tag(s_cmd_tag), .s_cmd_skip(s_cmd_skip),
         .m_res_valid(m_res_valid), .m_res_ready(m_res_ready),

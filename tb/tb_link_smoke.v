@@ -39,13 +39,22 @@ module tb_link_smoke;
     // no peripheral: driven by the host, else pulled low
     wire line_i = line_oe ? line_o : 1'b0;
 
+    // the phase lengths from twh_timing, never written: the defaults
+    wire [2:0]  nx_fld, dur_fld;
+    wire [15:0] dur;
+    wire        dur_we;
+    wire [31:0] t_rd_unused;
+    twh_timing #(.CHANNELS(1)) u_timing (
+        .clk(clk), .rst(rst), .lab(1'b0),
+        .wr(1'b0), .wr_ch(3'd0), .wr_reg(2'd0), .wr_data(32'd0), .wr_cmp(4'd0),
+        .rd_ch(3'd0), .rd_reg(2'd0), .rd_data(t_rd_unused),
+        .nx_fld(nx_fld), .dur_we(dur_we), .dur(dur), .dur_fld(dur_fld)
+    );
+
     twh_link #(.CLK_HZ(CLK_HZ), .TAG_W(8)) dut (
         .clk(clk), .rst(rst),
-        .cfg_charge_us(`TWH_CHARGE_DEF), .cfg_sync_us(`TWH_SYNC_DEF),
-        .cfg_preamble_us(`TWH_PREAMBLE_DEF), .cfg_execute_us(`TWH_EXECUTE_DEF),
-        .cfg_listen_us(`TWH_LISTEN_DEF), .cfg_turnaround_us(`TWH_TURNAROUND_DEF),
-        .cfg_below(6'd0), .cfg_above(6'd0),      // the defaults lie in their windows
-        .cfg_idle_charge(1'b0), .cfg_unlock(1'b0),
+        .nx_fld(nx_fld), .dur_we(dur_we), .dur_in(dur), .dur_fld_in(dur_fld),
+        .cfg_idle_charge(1'b0),
         .s_cmd_valid(s_cmd_valid), .s_cmd_ready(s_cmd_ready),
         .s_cmd_code(8'h41), .s_cmd_payload(16'h00AA), .s_cmd_tag(8'h5A),
         .s_cmd_skip(4'd0),
