@@ -27,16 +27,11 @@ module twh_link #(
 ) (
     input  wire             clk,
     input  wire             rst,
-    input  wire [15:0]      cfg_charge_us,
-    input  wire [15:0]      cfg_sync_us,
-    input  wire [15:0]      cfg_preamble_us,
-    input  wire [15:0]      cfg_execute_us,
-    input  wire [15:0]      cfg_listen_us,
-    input  wire [15:0]      cfg_turnaround_us,
+    output wire [2:0]       nx_fld,
+    input  wire             dur_we,
+    input  wire [15:0]      dur_in,
+    input  wire [2:0]       dur_fld_in,
     input  wire             cfg_idle_charge,
-    input  wire             cfg_unlock,
-    input  wire [5:0]       cfg_below,
-    input  wire [5:0]       cfg_above,
     input  wire             s_cmd_valid,
     output wire             s_cmd_ready,
     input  wire [7:0]       s_cmd_code,
@@ -59,7 +54,7 @@ module twh_link #(
     (* anyseq *) reg [3:0]  f_status;
     (* anyseq *) reg [15:0] f_data;
     (* anyseq *) reg        f_line_o, f_line_oe;
-    (* anyseq *) reg [2:0]  f_phase;
+    (* anyseq *) reg [2:0]  f_phase, f_nx;
 
     reg sent;    // a command is on the line, its result not yet raised
 
@@ -95,13 +90,12 @@ module twh_link #(
 
     assign busy    = sent;
     assign phase   = f_phase;
+    assign nx_fld  = f_nx;
     assign line_o  = f_line_o;
     assign line_oe = f_line_oe;
 
     // verilator lint_off UNUSEDSIGNAL
-    wire unused = &{1'b0, cfg_charge_us, cfg_sync_us, cfg_preamble_us, cfg_execute_us,
-                    cfg_listen_us, cfg_turnaround_us, cfg_idle_charge, cfg_unlock, cfg_below, cfg_above,
-                    s_cmd_payload, line_i};
+    wire unused = &{1'b0, dur_we, dur_in, dur_fld_in, cfg_idle_charge, s_cmd_payload, line_i};
     // verilator lint_on UNUSEDSIGNAL
 endmodule
 `default_nettype wire

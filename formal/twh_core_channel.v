@@ -17,15 +17,14 @@
 // the stand-in's state: `busy` is exactly "the engine holds a command from
 // the slot, or its result" (the real one also counts polls and the engine's
 // turnaround; the core only shows it in STATUS), and the read-back ports
-// TIMING0 and TIMING1 carry the slot's and the engine's command (the core
-// only copies them to reg_rdata, which no property of that job reads).
+// POLL_CTRL and POLL_RESULT carry the slot's and the engine's command (the
+// core only copies them to reg_rdata, which no property of that job reads).
 `default_nettype none
 `include "twh_defs.vh"
 module twh_channel #(
     parameter integer CLK_HZ      = 48_000_000,
     // the proofs run the full feature set: the stand-in keeps its contract
     // only there (twh_core's lean builds are tested, not proven)
-    parameter integer PROG_TIMING = 1,
     parameter integer POLLING     = 1
 ) (
     input  wire        clk,
@@ -33,17 +32,13 @@ module twh_channel #(
     input  wire        ms_tick,
     input  wire        enable,
     input  wire        idle_charge,
-    input  wire        lab,
     input  wire [31:0] wdata,
-    input  wire [3:0]  wdata_ok,
-    input  wire [3:0]  wdata_cmp,
-    input  wire        wr_timing0,
-    input  wire        wr_timing1,
-    input  wire        wr_timing2,
+    input  wire        wdata_ok,
     input  wire        wr_poll_ctrl,
-    output wire [31:0] timing0,
-    output wire [31:0] timing1,
-    output wire [31:0] timing2,
+    output wire [2:0]  nx_fld,
+    input  wire        dur_we,
+    input  wire [15:0] dur,
+    input  wire [2:0]  dur_fld,
     output wire [31:0] poll_ctrl,
     output wire [31:0] poll_result,
     output wire [31:0] state,
@@ -70,7 +65,7 @@ module twh_channel #(
     (* anyseq *) reg        f_take, f_done;
     (* anyseq *) reg [3:0]  f_status;
     (* anyseq *) reg [15:0] f_data;
-    (* anyseq *) reg [31:0] f_t2, f_pc, f_pr;
+    (* anyseq *) reg [2:0]  f_nx;
     (* anyseq *) reg [2:0]  f_phase;
     (* anyseq *) reg        f_sample, f_perr, f_line_o, f_line_oe;
 
@@ -123,18 +118,16 @@ module twh_channel #(
     end
 
     assign busy        = eng;
-    assign timing0     = {15'd0, s_skip, s_tag, s_cmd};
-    assign timing1     = {15'd0, e_skip, e_tag, e_cmd};
-    assign timing2     = f_t2;
-    assign poll_ctrl   = f_pc;
-    assign poll_result = f_pr;
+    assign poll_ctrl   = {15'd0, s_skip, s_tag, s_cmd};
+    assign poll_result = {15'd0, e_skip, e_tag, e_cmd};
+    assign nx_fld      = f_nx;
     assign state       = {27'd0, slot_full, eng, f_phase};
     assign line_o      = f_line_o;
     assign line_oe     = f_line_oe;
 
     // verilator lint_off UNUSEDSIGNAL
-    wire unused = &{1'b0, ms_tick, enable, idle_charge, lab, wdata, wdata_ok, wdata_cmp, wr_timing0, wr_timing1,
-                    wr_timing2, wr_poll_ctrl, slot_payload_i, line_i};
+    wire unused = &{1'b0, ms_tick, enable, idle_charge, wdata, wdata_ok, wr_poll_ctrl,
+                    dur_we, dur, dur_fld, slot_payload_i, line_i};
     // verilator lint_on UNUSEDSIGNAL
 endmodule
 `default_nettype wire

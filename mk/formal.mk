@@ -20,6 +20,7 @@ FORMAL_JOBS ?= \
     twh_demod:carrier_c4 twh_demod:carrier_c48 twh_demod:carrier_c100 \
     twh_rx:prove twh_rx:uart \
     twh_link:c4 twh_link:c48 twh_link:c13_56 \
+    twh_timing:ch1 twh_timing:ch3 \
     twh_channel:prove twh_channel:cover \
     twh_core:port twh_core:ch1 twh_core:ch2 twh_core:cover_ch2
 
@@ -32,5 +33,6 @@ formal: deps
 .PHONY: formal-mutants
 formal-mutants: deps
 	@mkdir -p build/formal && cat formal/mutants.tsv formal/twh_link_mutants.tsv \
-	    formal/twh_channel_mutants.tsv formal/twh_core_mutants.tsv > build/formal/all_mutants.tsv
+	    formal/twh_channel_mutants.tsv formal/twh_core_mutants.tsv formal/twh_timing_mutants.tsv \
+	    > build/formal/all_mutants.tsv
 	@bash formal/mutate.sh build/formal/all_mutants.tsv

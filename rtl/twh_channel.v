@@ -256,43 +256,14 @@ module twh_channel #(
         input [7:0] c;
         f_ro = (c >= 8'h40 && c <= 8'h44) || (c >= 8'h46 && c <= 8'h49);
     endfunction
-    // the spec windows (section 4 table), written out here rather than
-    // taken from twh_defs.vh
-    function f_win0;      // {sync, charge}
-        input [31:0] v;
-        f_win0 = v[15:0] >= 16'd7000 && v[31:16] >= 16'd900 && v[31:16] <= 16'd1100;
-    endfunction
-    function f_win1;      // {execute, preamble}
-        input [31:0] v;
-        f_win1 = v[15:0] >= 16'd1800 && v[15:0] <= 16'd2200 &&
-                 v[31:16] >= 16'd3500 && v[31:16] <= 16'd10000;
-    endfunction
-    function f_win2;      // {turnaround, listen}
-        input [31:0] v;
-        f_win2 = v[15:0] >= 16'd2000 && v[31:16] >= 16'd2000;
-    endfunction
-
-    // Whether a write of wdata must be taken. Wires, not function calls
-    // under $past: Yosys 0.70 evaluates a function call inside $past on the
-    // current arguments.
-    wire f_take0 = lab || f_win0(wdata);
-    wire f_take1 = lab || f_win1(wdata);
-    wire f_take2 = lab || f_win2(wdata);
+    // Whether a POLL_CTRL write of wdata must be taken (the timing
+    // registers' rules are twh_timing's and the core's). A wire, not a
+    // function call under $past: Yosys 0.70 evaluates a function call inside
+    // $past on the current arguments.
     wire f_takep = !wdata[31] || f_ro(wdata[7:0]);
     // the core's verdict is right for the register written (proven on the
     // core: twh_core's f_cw_ok)
-    // and so are its window flags (twh_core's f_cmp)
-    function [1:0] f_fl;          // {above, below} the window lo..hi
-        input [15:0] v, lo, hi;
-        f_fl = {v > hi, v < lo};
-    endfunction
-    wire [3:0] f_cmp0 = {f_fl(wdata[31:16], 16'd900, 16'd1100),  f_fl(wdata[15:0], 16'd7000, 16'hFFFF)};
-    wire [3:0] f_cmp1 = {f_fl(wdata[31:16], 16'd3500, 16'd10000), f_fl(wdata[15:0], 16'd1800, 16'd2200)};
-    wire [3:0] f_cmp2 = {f_fl(wdata[31:16], 16'd2000, 16'hFFFF),  f_fl(wdata[15:0], 16'd2000, 16'hFFFF)};
-    wire f_ok_right = (!wr_timing0 || (wdata_ok[0] == f_take0 && wdata_cmp == f_cmp0)) &&
-                      (!wr_timing1 || (wdata_ok[1] == f_take1 && wdata_cmp == f_cmp1)) &&
-                      (!wr_timing2 || (wdata_ok[2] == f_take2 && wdata_cmp == f_cmp2)) &&
-                      (!wr_poll_ctrl || wdata_ok[3] == f_takep);
+    wire f_ok_right = !wr_poll_ctrl || wdata_ok == f_takep;
     always @(*) begin
         if (f_ok && !rst) begin
 `ifdef TWH_F_CHANNEL
@@ -302,39 +273,12 @@ module twh_channel #(
 `endif
         end
     end
-    // whether the lab unlock was on when each timing register last took a
-    // value (the reset defaults are in the window)
-    reg f_lab0, f_lab1, f_lab2;
-    always @(posedge clk) begin
-        if (rst) begin
-            f_lab0 <= 1'b0;
-            f_lab1 <= 1'b0;
-            f_lab2 <= 1'b0;
-        end else begin
-            if (wr_timing0 && f_take0) f_lab0 <= lab;
-            if (wr_timing1 && f_take1) f_lab1 <= lab;
-            if (wr_timing2 && f_take2) f_lab2 <= lab;
-        end
-    end
 
     wire [7:0] f_code = use_poll_q ? poll_cmd : slot_cmd;     // what the engine is offered
     wire [3:0] f_skip = use_poll_q ? 4'd0 : slot_skip;
 
     always @(*) begin
         if (f_ok) begin
-            // timing registers hold in-window values, unless written while
-            // the lab unlock was on
-            if (!f_lab0) assert(f_win0(timing0));
-            if (!f_lab1) assert(f_win1(timing1));
-            if (!f_lab2) assert(f_win2(timing2));
-            // each field's flags are those of its value (the engine's
-            // clamp relies on them)
-            assert({t_above[1], t_below[1], t_above[0], t_below[0]} ==
-                   {f_fl(t_sync, 16'd900, 16'd1100), f_fl(t_charge, 16'd7000, 16'hFFFF)});
-            assert({t_above[3], t_below[3], t_above[2], t_below[2]} ==
-                   {f_fl(t_execute, 16'd3500, 16'd10000), f_fl(t_preamble, 16'd1800, 16'd2200)});
-            assert({t_above[5], t_below[5], t_above[4], t_below[4]} ==
-                   {f_fl(t_turnaround, 16'd2000, 16'hFFFF), f_fl(t_listen, 16'd2000, 16'hFFFF)});
             // the timer's flag is its compare
             assert(poll_last == (poll_timer <= 15'd1));
             // the poller is only ever armed with, and only ever hands the
@@ -350,14 +294,6 @@ module twh_channel #(
 
     always @(posedge clk) begin
         if (f_run) begin
-            // a timing write is taken whole when in the window (or lab),
-            // otherwise refused whole
-            if ($past(wr_timing0))
-                assert(timing0 == ($past(f_take0) ? $past(wdata) : $past(timing0)));
-            if ($past(wr_timing1))
-                assert(timing1 == ($past(f_take1) ? $past(wdata) : $past(timing1)));
-            if ($past(wr_timing2))
-                assert(timing2 == ($past(f_take2) ? $past(wdata) : $past(timing2)));
             if ($past(wr_poll_ctrl && f_takep))
                 assert(poll_ctrl == $past(wdata));
             // a result to the core stays offered, unchanged, until taken

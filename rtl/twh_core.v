@@ -7,7 +7,9 @@
 // reg_wstrb) is taken into a register stage, carried out on the next clock
 // and answered on the clock after that: reg_ack, reg_err and reg_rdata come
 // two clocks after the request. Requests may follow on every clock; they
-// are carried out in order, so a read sees every earlier write. The stage
+// are carried out in order, so a read sees every earlier write. reg_ack and
+// reg_err are registers; reg_rdata is a register ORed with the timing
+// registers' block RAM output (twh_timing), itself a register. The stage
 // is there for speed: everything the request decides starts from its
 // flip-flops, and the checks that need a comparator (the timing windows, the
 // unlock keys, the factory-area rule) are taken on the way into it.
@@ -43,7 +45,7 @@ module twh_core #(
     input  wire [3:0]          reg_wstrb,
     output reg                 reg_ack,
     output reg                 reg_err,
-    output reg  [31:0]         reg_rdata,
+    output wire [31:0]         reg_rdata,
     output wire                irq,
     // 2-wire pins
     output wire [CHANNELS-1:0] line_o,
@@ -165,6 +167,7 @@ module twh_core #(
     // and a POLL_CTRL write there that must be refused (lab does not
     // apply to it).
     reg        q_wr_t, q_ref_p;
+    reg [3:0]  q_cmp;            // i_cmp of the request: stored with a timing value
     reg        q_wp;             // POLL_CTRL of an existing channel addressed
     reg [CHANNELS-1:0] q_ch;     // a write to this channel's block (one-hot)
     reg        q_ctrl, q_flush, q_errors, q_irq_en, q_poll_ready, q_push, q_pop, q_lab_key, q_fact_key;
@@ -181,6 +184,7 @@ module twh_core #(
         q_full     <= (reg_wstrb == 4'hF);
         q_addr     <= reg_addr;
         q_wdata    <= reg_wdata;
+        q_cmp      <= i_cmp;
         q_cmp_nz   <= (i_cmp != 4'd0);
         q_win_p    <= i_win_p;
         q_wr_t     <= !rst && i_wr && i_ch_ok && reg_addr[4:2] <= 3'd2;
@@ -360,18 +364,15 @@ module twh_core #(
     wire [CHANNELS-1:0] t_dur_we;
     wire [15:0] t_dur;
     wire [2:0]  t_dur_fld;
-    // twh_timing takes a write with its request, on the verdict taken from
-    // the bus data (the same as t_take will be, with the lab unlock as a
-    // LAB_KEY write carried out in this clock leaves it), so that a read
-    // right behind it finds the word written
-    wire       i_lab  = q_lab_key ? (q_key_lab && PROG_TIMING != 0) : lab;
-    wire       i_twr  = !rst && i_wr && i_ch_ok && reg_addr[4:2] <= 3'd2 &&
-                        (i_lab || i_cmp == 4'd0) && PROG_TIMING != 0;
+    // twh_timing is written and read by the request stage, like every other
+    // register (a read and a write are never in it together); its word
+    // comes out of the block RAM's register in the answer's clock
+    wire [2:0]  q_blk = q_addr[7:5] - 3'd2;      // q_addr[8:5] - 2 of a channel block
     twh_timing #(.CHANNELS(CHANNELS)) u_timing (
         .clk(clk), .rst(rst), .lab(lab),
-        .wr(i_twr), .wr_ch(i_blk[2:0]), .wr_reg(reg_addr[3:2]),
-        .wr_data(reg_wdata), .wr_cmp(i_cmp),
-        .rd_ch(i_blk[2:0]), .rd_reg(reg_addr[3:2]), .rd_data(t_rdata),
+        .wr(q_wr_t && t_take), .wr_ch(q_blk), .wr_reg(q_addr[3:2]),
+        .wr_data(q_wdata), .wr_cmp(q_cmp),
+        .rd_ch(q_blk), .rd_reg(q_addr[3:2]), .rd_data(t_rdata),
         .nx_fld(c_nx_fld), .dur_we(t_dur_we), .dur(t_dur), .dur_fld(t_dur_fld)
     );
 
@@ -545,7 +546,7 @@ module twh_core #(
     reg [31:0] c_rdata;
     integer    r_n;
     always @(*) begin
-        c_rdata = {32{q_r_t}} & t_rdata;
+        c_rdata = 32'd0;
         for (r_n = 0; r_n < CHANNELS; r_n = r_n + 1)
             c_rdata = c_rdata
                 | ({32{q_r_cr[r_n*3 + 0]}} & c_pc[r_n*32 +: 32])
@@ -553,18 +554,23 @@ module twh_core #(
                 | ({32{q_r_cr[r_n*3 + 2]}} & c_st[r_n*32 +: 32]);
     end
 
+    reg [31:0] rdata_q;
+    reg        t_rd_q;           // the answer is a TIMING0-2 read
     always @(posedge clk) begin
         if (rst) begin
             reg_ack   <= 1'b0;
             reg_err   <= 1'b0;
-            reg_rdata <= 32'd0;
+            rdata_q   <= 32'd0;
+            t_rd_q    <= 1'b0;
         end else begin
             reg_ack   <= q_req;
             reg_err   <= q_req && (!mapped || (q_we && !full_word) ||
                                      (push_req && (push_bad_ch || cmd_full)));
-            reg_rdata <= g_rdata | c_rdata;
+            rdata_q   <= g_rdata | c_rdata;
+            t_rd_q    <= q_r_t;
         end
     end
+    assign reg_rdata = rdata_q | ({32{t_rd_q}} & t_rdata);
 
 `ifdef FORMAL
     // ================================================================ formal
@@ -598,6 +604,7 @@ module twh_core #(
     wire [7:0]  f_c  = q_wdata[7:0];
     reg         f_cw_ok;
     reg  [3:0]  f_cmp;
+
     always @(*) begin
         case (ch_reg)
             3'd0: f_cw_ok = lab || (f_lo >= 16'd7000 && f_hi >= 16'd900 && f_hi <= 16'd1100);
@@ -618,7 +625,10 @@ module twh_core #(
         if (f_rs && f_h) begin
 `ifndef TWH_F_CORE
             // (the jobs with the channel stand-in cut the window checker)
-            if (wr && ch_exists && ch_reg <= 3'd3) assert(cw_ok[ch_reg[1:0]] == f_cw_ok);
+            if (wr && ch_exists && ch_reg == 3'd3) assert(q_win_p == f_cw_ok);
+            // twh_timing takes the write exactly when the rule takes it, at
+            // its address, with the value's window flags
+            assert((q_wr_t && t_take) == (wr && ch_exists && ch_reg <= 3'd2 && f_cw_ok));
             if (wr && ch_exists && ch_reg <= 3'd2) assert(q_cmp == f_cmp);
             // REFUSED is raised by exactly the channel writes not taken
             assert(refused == (wr && ch_exists && ch_reg <= 3'd3 && !f_cw_ok));
@@ -661,9 +671,11 @@ module twh_core #(
         if (rd && mapped) begin
             if (is_ch) begin
                 case (ch_reg)
-                    3'd0:    f_rdata = c_t0[ch_sel*32 +: 32];
-                    3'd1:    f_rdata = c_t1[ch_sel*32 +: 32];
-                    3'd2:    f_rdata = c_t2[ch_sel*32 +: 32];
+                    // TIMING0-2: twh_timing's word, ORed in a clock later
+                    // (below)
+                    3'd0,
+                    3'd1,
+                    3'd2:    f_rdata = 32'd0;
                     3'd3:    f_rdata = c_pc[ch_sel*32 +: 32];
                     3'd4:    f_rdata = c_pr[ch_sel*32 +: 32];
                     default: f_rdata = c_st[ch_sel*32 +: 32];
@@ -695,7 +707,13 @@ module twh_core #(
         f_chk_rd  <= f_rs && f_h && !rst;
         f_rdata_q <= f_rdata;
     end
-    always @(*) if (f_chk_rd) assert(reg_rdata == f_rdata_q);
+    // a TIMING0-2 read answers twh_timing's word for its address (its own
+    // proof: the register's value as of the read)
+    reg f_trd_q;
+    always @(posedge clk) f_trd_q <= rd && mapped && is_ch && ch_reg <= 3'd2;
+    always @(*) if (f_chk_rd) assert(reg_rdata == (f_rdata_q | ({32{f_trd_q}} & t_rdata)));
+    always @(*) if (f_rs && f_h && rd && ch_exists && ch_reg <= 3'd2)
+        assert(q_blk == ch_sel);
 
     // The interrupt as registers.md words it, with the sources written out
     // from the state they stand for: RESULT while the result FIFO held at
@@ -833,8 +851,8 @@ module twh_core #(
     wire         f_can_now = f_can || (f_st == 2'd2 && f_pf && slot_full8[f_ch]);
     wire [3:0]   f_skip  = f_can_now ? `TWH_ST_CANCELLED :
                            f_blk ? `TWH_ST_BLOCKED : 4'd0;
-    wire [31:0]  f_slot  = c_t0[f_ch*32 +: 32];    // stand-in: {skip, tag, code} in the slot
-    wire [31:0]  f_eng   = c_t1[f_ch*32 +: 32];    // ... and in the engine
+    wire [31:0]  f_slot  = c_pc[f_ch*32 +: 32];    // stand-in: {skip, tag, code} in the slot
+    wire [31:0]  f_eng   = c_pr[f_ch*32 +: 32];    // ... and in the engine
     wire         f_mine  = res_push && scan == f_ch && f_st == 2'd3;  // its result goes in
     // what its channel offers: {tag, status} and code (all of it only
     // counts while that channel's result is valid)

@@ -183,11 +183,11 @@ module twh_link #(
     assign nx_fld[2] = ph_oh[`TWH_PH_PREAMBLE] | ph_oh[`TWH_PH_COMMAND] |
                        ph_oh[`TWH_PH_EXECUTE] | ph_oh[`TWH_PH_LISTEN];
     reg [2:0] dur_fld;      // the field dur_next holds (0: none yet)
-    // dur_next holds the field needed, as of a clock ago: registered, off
-    // the path into the phase registers. It cannot be stale at a tick:
-    // nx_fld changes only at ticks, which are at least four clocks apart,
-    // and a length fetched for the field before a change arrives within two
-    // clocks of it and clears the flag a clock later, before the next tick.
+    // dur_ok: dur_next holds the field needed. Registered, off the path into
+    // the phase registers, and exact: it is taken from dur_fld as it will
+    // be, and nx_fld changes only in a tick's clock, after which it reads 0
+    // for a clock (ticks are at least four clocks apart, so this never
+    // delays a phase).
     reg dur_ok;
     always @(posedge clk) begin
         if (rst) begin
@@ -196,7 +196,7 @@ module twh_link #(
             dur_next <= dur_in;
             dur_fld  <= dur_fld_in;
         end
-        dur_ok <= !rst && (dur_fld == nx_fld);
+        dur_ok <= !rst && !tick && ((dur_we ? dur_fld_in : dur_fld) == nx_fld);
     end
     // the fixed lengths: the command's 44 or 33 bits of 32 us, one tick of
     // idle after a turnaround
@@ -382,9 +382,11 @@ module twh_link #(
 `ifdef FORMAL
     // ================================================================ formal
     // The engine on its own (formal/twh_link.sby). Every input, rst and the
-    // line included, is free but for one assumption (the window flags agree
-    // with their durations, below), and everything holds from the first
-    // reset on (f_ok). Durations are counted in carrier ticks; that
+    // line included, is free but for the phase lengths, which arrive as
+    // twh_timing hands them to one channel (its proof, formal/twh_timing.sby):
+    // every clock, the field named two clocks before, with a length inside
+    // that field's spec window unless the lab unlock was on (f_unl_in, free).
+    // Everything holds from the first reset on (f_ok). Durations are counted in carrier ticks; that
     // a tick is one microsecond is twh_carrier's own proof. The checks at the
     // pin and at clock level need whole carrier periods inside the induction
     // window, so they are compiled in only with TWH_F_LINK_PINS (4 MHz job).
@@ -394,35 +396,71 @@ module twh_link #(
     // and the stream rules apply
     reg f_run = 1'b0;
     always @(posedge clk) f_run <= f_ok && !rst;
-    // two clocks of history: the clamp pipeline's inputs are known
+    // two clocks of history: the fetch pipeline's inputs are known
     reg [1:0] f_hist = 2'b00;
     always @(posedge clk) f_hist <= {f_hist[0], 1'b1};
-    // the configuration one and two clocks ago
-    reg [95:0] f_cfg1, f_cfg2;
-    reg        f_unl1, f_unl2;
-    always @(posedge clk) begin
-        f_cfg1 <= {cfg_charge_us, cfg_sync_us, cfg_preamble_us,
-                   cfg_execute_us, cfg_listen_us, cfg_turnaround_us};
-        f_cfg2 <= f_cfg1;
-        f_unl1 <= cfg_unlock;
-        f_unl2 <= f_unl1;
-    end
 
-    // The one assumption: each duration's window flags are those of its
-    // value (twh_window where it is written; twh_channel's proof asserts
-    // them of the registers it keeps). The windows are written out here.
-    function [1:0] f_fl;          // {above, below} the window lo..hi
-        input [15:0] v, lo, hi;
-        f_fl = {v > hi, v < lo};
+    // the spec windows of the phases (section 4 table), written out here
+    // rather than taken from twh_defs.vh, so that a wrong constant there
+    // shows
+    function f_in_window;
+        input [2:0]  p;
+        input [15:0] d;
+        begin
+            case (p)
+                `TWH_PH_CHARGE:     f_in_window = d >= 16'd7000;
+                `TWH_PH_SYNC:       f_in_window = d >= 16'd900 && d <= 16'd1100;
+                `TWH_PH_PREAMBLE:   f_in_window = d >= 16'd1800 && d <= 16'd2200;
+                `TWH_PH_EXECUTE:    f_in_window = d >= 16'd3500 && d <= 16'd10000;
+                `TWH_PH_LISTEN:     f_in_window = d >= 16'd2000;
+                `TWH_PH_TURNAROUND: f_in_window = d >= 16'd2000;
+                default:            f_in_window = 1'b1;
+            endcase
+        end
     endfunction
-    always @(*) begin
-        assume({cfg_above[0], cfg_below[0]} == f_fl(cfg_charge_us,     16'd7000, 16'hFFFF));
-        assume({cfg_above[1], cfg_below[1]} == f_fl(cfg_sync_us,       16'd900,  16'd1100));
-        assume({cfg_above[2], cfg_below[2]} == f_fl(cfg_preamble_us,   16'd1800, 16'd2200));
-        assume({cfg_above[3], cfg_below[3]} == f_fl(cfg_execute_us,    16'd3500, 16'd10000));
-        assume({cfg_above[4], cfg_below[4]} == f_fl(cfg_listen_us,     16'd2000, 16'hFFFF));
-        assume({cfg_above[5], cfg_below[5]} == f_fl(cfg_turnaround_us, 16'd2000, 16'hFFFF));
+    // twh_timing's field of a programmable phase (0: a fixed length)
+    function [2:0] f_fld_of;
+        input [2:0] p;
+        case (p)
+            `TWH_PH_CHARGE:     f_fld_of = 3'd1;
+            `TWH_PH_SYNC:       f_fld_of = 3'd2;
+            `TWH_PH_PREAMBLE:   f_fld_of = 3'd3;
+            `TWH_PH_EXECUTE:    f_fld_of = 3'd4;
+            `TWH_PH_LISTEN:     f_fld_of = 3'd5;
+            `TWH_PH_TURNAROUND: f_fld_of = 3'd6;
+            default:            f_fld_of = 3'd0;
+        endcase
+    endfunction
+    // and the phase of a field
+    function [2:0] f_ph_of;
+        input [2:0] f;
+        case (f)
+            3'd1:    f_ph_of = `TWH_PH_CHARGE;
+            3'd2:    f_ph_of = `TWH_PH_SYNC;
+            3'd3:    f_ph_of = `TWH_PH_PREAMBLE;
+            3'd4:    f_ph_of = `TWH_PH_EXECUTE;
+            3'd5:    f_ph_of = `TWH_PH_LISTEN;
+            default: f_ph_of = `TWH_PH_TURNAROUND;
+        endcase
+    endfunction
+
+    // The lengths as twh_timing hands them to a single channel: a delivery
+    // every clock, for the field named two clocks before; f_unl_in: the lab
+    // unlock was on when it was clamped (then any length, 0 included).
+    (* anyseq *) reg f_unl_in;
+    reg [2:0] f_nx1, f_nx2;
+    always @(posedge clk) begin
+        f_nx1 <= nx_fld;
+        f_nx2 <= f_nx1;
     end
+    always @(*) begin
+        if (f_hist[1]) assume(dur_we && dur_fld_in == f_nx2);
+        if (dur_we) assume(dur_fld_in >= 3'd1 && dur_fld_in <= 3'd6);
+        if (dur_we && !f_unl_in) assume(f_in_window(f_ph_of(dur_fld_in), dur_in));
+    end
+    // whether dur_next came with the lab unlock on
+    reg f_dn_unl;
+    always @(posedge clk) if (dur_we) f_dn_unl <= f_unl_in;
 
     wire       f_txn   = (ph != `TWH_PH_IDLE) && (ph != `TWH_PH_TURNAROUND); // phases 1-6
     // the answer's checksum as the spec states it (section 5)
@@ -473,64 +511,22 @@ module twh_link #(
         input [15:0] d;
         f_eff = (d == 16'd0) ? 16'd1 : d;
     endfunction
+    // the length the next phase must get: the command's 44 or 33 bits, one
+    // tick of idle after a turnaround, otherwise the length delivered
+    wire [15:0] f_want = (f_nph == `TWH_PH_COMMAND) ? (f_long ? 16'd1408 : 16'd1056) :
+                         (f_nph == `TWH_PH_IDLE)    ? 16'd1 : dur_next;
     always @(posedge clk) begin
         if (rst) begin
             f_dur     <= `TWH_TURNAROUND_MIN + 16'd1;
             f_ticks   <= 16'd0;
             f_dur_unl <= 1'b0;
         end else if (f_leave) begin
-            f_dur     <= f_eff(dur_next);
+            f_dur     <= f_eff(f_want);
             f_ticks   <= 16'd0;
-            f_dur_unl <= f_unl2;
+            f_dur_unl <= f_fld_of(f_nph) != 3'd0 && f_dn_unl;
         end else if (tick && !last) begin
             f_ticks   <= f_ticks + 1'b1;
         end
-    end
-
-    function [15:0] f_clamp;
-        input [15:0] v, lo, hi;
-        input        unl;
-        begin
-            if (unl)         f_clamp = (v == 16'd0) ? 16'd1 : v;
-            else if (v < lo) f_clamp = lo;
-            else if (v > hi) f_clamp = hi;
-            else             f_clamp = v;
-        end
-    endfunction
-
-    // the windows of the spec's section 4 table, written out here rather
-    // than taken from twh_defs.vh, so that a wrong constant there shows
-    function f_in_window;
-        input [2:0]  p;
-        input [15:0] d;
-        begin
-            case (p)
-                `TWH_PH_CHARGE:     f_in_window = d >= 16'd7000;
-                `TWH_PH_SYNC:       f_in_window = d >= 16'd900 && d <= 16'd1100;
-                `TWH_PH_PREAMBLE:   f_in_window = d >= 16'd1800 && d <= 16'd2200;
-                `TWH_PH_EXECUTE:    f_in_window = d >= 16'd3500 && d <= 16'd10000;
-                `TWH_PH_LISTEN:     f_in_window = d >= 16'd2000;
-                `TWH_PH_TURNAROUND: f_in_window = d >= 16'd2000;
-                default:            f_in_window = 1'b1;
-            endcase
-        end
-    endfunction
-
-    // What the phase about to start must get: the configured value of two
-    // clocks ago (the pick and the clamp are one register each), clamped
-    // unless cfg_unlock was set at that same clock.
-    reg [15:0] f_want;
-    always @(*) begin
-        case (f_nph)
-            `TWH_PH_CHARGE:     f_want = f_clamp(f_cfg2[95:80], 16'd7000, 16'd65535, f_unl2);
-            `TWH_PH_SYNC:       f_want = f_clamp(f_cfg2[79:64], 16'd900, 16'd1100, f_unl2);
-            `TWH_PH_PREAMBLE:   f_want = f_clamp(f_cfg2[63:48], 16'd1800, 16'd2200, f_unl2);
-            `TWH_PH_COMMAND:    f_want = f_long ? 16'd1408 : 16'd1056;
-            `TWH_PH_EXECUTE:    f_want = f_clamp(f_cfg2[47:32], 16'd3500, 16'd10000, f_unl2);
-            `TWH_PH_LISTEN:     f_want = f_clamp(f_cfg2[31:16], 16'd2000, 16'd65535, f_unl2);
-            `TWH_PH_TURNAROUND: f_want = f_clamp(f_cfg2[15:0], 16'd2000, 16'd65535, f_unl2);
-            default:            f_want = 16'd1;     // back to idle: ready at the next tick
-        endcase
     end
 
     always @(*) begin
@@ -610,16 +606,27 @@ module twh_link #(
         end
     end
 
-    always @(posedge clk) begin
-        if (f_ok && f_hist[1]) begin
-            // the length loaded for the next phase is its configured value,
-            // clamped into the window unless cfg_unlock was set two clocks
-            // before the load; so it is inside the window in that case
-            if (f_leave) begin
-                assert(f_eff(dur_next) == f_want);
-                if (!f_unl2) assert(f_in_window(f_nph, dur_next));
-            end
+    always @(*) begin
+        if (f_ok) begin
+            // a programmable phase starts only with a length delivered for
+            // its own field (never a stale fetch for the phase before) ...
+            if (f_leave && f_fld_of(f_nph) != 3'd0) assert(dur_fld == f_fld_of(f_nph));
+            // ... and the flag that lets it start is exact
+            if (dur_ok) assert(dur_fld == nx_fld);
+            // with lengths delivered as twh_timing does for one channel, a
+            // phase never waits for its length (f_leave is taken at the
+            // last tick, whatever dur_ok says)
+            if (f_hist[1] && tick && last && ph != `TWH_PH_IDLE &&
+                ph != `TWH_PH_PREAMBLE && ph != `TWH_PH_TURNAROUND) assert(dur_ok);
+            if (f_hist[1] && tick && last && ph == `TWH_PH_IDLE && pending && pend_q)
+                assert(dur_ok);
+            assert(nx_fld == f_fld_of(ph == `TWH_PH_IDLE ? `TWH_PH_CHARGE :
+                                      ph == `TWH_PH_PREAMBLE ? `TWH_PH_EXECUTE :
+                                      ph == `TWH_PH_TURNAROUND ? `TWH_PH_CHARGE : ph + 3'd1));
         end
+    end
+
+    always @(posedge clk) begin
         if (f_run) begin
             // a result stays offered, unchanged, until it is taken
             if ($past(m_res_valid && !m_res_ready))

@@ -10,11 +10,11 @@
 //   the engines' fetch, so neither ever waits for the other.
 // - A word never written since reset reads its default (a flag per word
 //   cleared by rst), so a reset needs no walk through the memory.
-// - The core writes with the request, not a clock later: its verdict (in
-//   the window, or lab) is taken from the bus data on the way in. A read
-//   presents its address with its own request and gets the word a clock
-//   later (rd_data), so it sees every earlier write and no forwarding is
-//   needed. A reset in the clock after the write clears the word's flag.
+// - The core's request stage writes (its verdict taken: in the window, or
+//   lab) and reads (the address in that clock, the word a clock later on
+//   rd_data, from the block RAM's own register). One request is in the
+//   stage at a time, so a read never meets a write and sees every earlier
+//   one.
 // - Fetch: one channel per clock, in turn, reads the field its engine names
 //   on nx_fld (the length its next programmable phase will load), clamps
 //   it to the field's spec window unless `lab` is set (the window flags were
@@ -57,11 +57,13 @@ module twh_timing #(
 
     // ------------------------------------------------------------ storage
     // 32 words whatever CHANNELS is ({channel, register}), so the memory
-    // maps to block RAM rather than flip-flops; each copy is read old-first
-    // in the clock it is written (the core never reads and writes one word
-    // in the same clock).
-    reg [31:0] mem_bus [0:31];
-    reg [35:0] mem_eng [0:31];
+    // maps to block RAM rather than flip-flops. A read in the clock its word
+    // is written may see the old or the new value (no_rw_check: no
+    // collision logic in front of the RAM): the bus never reads a word in
+    // its write's clock (a request is a read or a write), and a fetch that
+    // meets a write is repeated within CHANNELS clocks anyway.
+    (* no_rw_check *) reg [31:0] mem_bus [0:31];
+    (* no_rw_check *) reg [35:0] mem_eng [0:31];
     reg [31:0] written;                   // word {ch, reg} holds a value
     wire [4:0] wa = {wr_ch, wr_reg};
     wire [4:0] ra = {rd_ch, rd_reg};
@@ -70,11 +72,11 @@ module twh_timing #(
         if (wr) mem_bus[wa] <= wr_data;
         rb_word <= mem_bus[ra];
     end
-    integer n;
+    // the words that exist: TIMING0-2 of each channel
+    localparam [31:0] WORDS = {{(32 - CHANNELS*4){1'b0}}, {CHANNELS{4'b0111}}};
     always @(posedge clk) begin
-        for (n = 0; n < 32; n = n + 1)
-            if (rst || n >= CHANNELS * 4 || n % 4 == 3) written[n] <= 1'b0;
-            else if (wr && wa == n[4:0])              written[n] <= 1'b1;
+        if (rst) written <= 32'd0;
+        else     written <= (written | ({31'd0, wr} << wa)) & WORDS;
     end
 
     // ------------------------------------------------------------ bus read
@@ -135,12 +137,154 @@ module twh_timing #(
             default: begin w_lo = `TWH_TURNAROUND_MIN; w_hi = `TWH_US_MAX;       end
         endcase
     end
-    integer c;
+    localparam integer ONE_I = 1;
+    localparam [CHANNELS-1:0] ONE = ONE_I[CHANNELS-1:0];
     always @(*) begin
-        for (c = 0; c < CHANNELS; c = c + 1)
-            dur_we[c] = p_ok && p_ch == c[2:0];
+        dur_we  = {CHANNELS{p_ok}} & (ONE << p_ch);
         dur     = p_b ? w_lo : p_a ? w_hi : p_v;
         dur_fld = p_fld;
     end
+
+`ifdef FORMAL
+    // ================================================================ formal
+    // formal/twh_timing.sby, at one and three channels. The core's side is
+    // assumed as the core's proof shows it (a write names an existing
+    // channel's TIMING0-2 and carries twh_window's flags of its data); the
+    // engines name fields 1-6 (twh_link's proof). One word, f_a, is
+    // followed symbolically: what holds for it holds for every word.
+    reg f_ok = 1'b0;
+    always @(posedge clk) if (rst) f_ok <= 1'b1;
+
+    // the spec windows (section 4 table), written out here
+    function [15:0] f_lo;
+        input [2:0] f;
+        case (f)
+            3'd1: f_lo = 16'd7000;  3'd2: f_lo = 16'd900;   3'd3: f_lo = 16'd1800;
+            3'd4: f_lo = 16'd3500;  3'd5: f_lo = 16'd2000;  default: f_lo = 16'd2000;
+        endcase
+    endfunction
+    function [15:0] f_hi;
+        input [2:0] f;
+        case (f)
+            3'd2: f_hi = 16'd1100;  3'd3: f_hi = 16'd2200;  3'd4: f_hi = 16'd10000;
+            default: f_hi = 16'hFFFF;
+        endcase
+    endfunction
+    // {hi above, hi below, lo above, lo below} of a word of register r
+    function [3:0] f_flags;
+        input [1:0]  r;
+        input [31:0] v;
+        reg   [2:0]  fl, fh;
+        begin
+            fl = {r, 1'b0} + 3'd1;
+            fh = {r, 1'b0} + 3'd2;
+            f_flags = {v[31:16] > f_hi(fh), v[31:16] < f_lo(fh),
+                       v[15:0] > f_hi(fl), v[15:0] < f_lo(fl)};
+        end
+    endfunction
+    function [31:0] f_def;
+        input [1:0] r;
+        case (r)
+            2'd0:    f_def = {16'd1000, 16'd8000};
+            2'd1:    f_def = {16'd4000, 16'd2000};
+            default: f_def = {16'd2000, 16'd3000};
+        endcase
+    endfunction
+    function [15:0] f_clamp;
+        input [15:0] v;
+        input [2:0]  f;
+        input        unl;
+        if (unl)              f_clamp = v;
+        else if (v < f_lo(f)) f_clamp = f_lo(f);
+        else if (v > f_hi(f)) f_clamp = f_hi(f);
+        else                  f_clamp = v;
+    endfunction
+
+    integer f_c;
+    always @(*) begin
+        if (wr) assume(wr_reg <= 2'd2 && wr_ch < CHANNELS && wr_cmp == f_flags(wr_reg, wr_data));
+        for (f_c = 0; f_c < CHANNELS; f_c = f_c + 1)
+            assume(nx_fld[f_c*3 +: 3] >= 3'd1 && nx_fld[f_c*3 +: 3] <= 3'd6);
+    end
+
+    // the word followed, and what it must hold: f_w, written since the
+    // reset; f_val, the last value written
+    (* anyconst *) reg [2:0] f_ach;
+    (* anyconst *) reg [1:0] f_areg;
+    wire [4:0] f_a = {f_ach, f_areg};
+    always @(*) assume(f_ach < CHANNELS && f_areg <= 2'd2);
+    reg        f_w;
+    reg [31:0] f_val;
+    always @(posedge clk) begin
+        if (rst) begin
+            f_w <= 1'b0;
+        end else if (wr && wa == f_a) begin
+            f_w   <= 1'b1;
+            f_val <= wr_data;
+        end
+    end
+    wire [31:0] f_now = f_w ? f_val : f_def(f_areg);      // the register's value
+
+    always @(*) begin
+        if (f_ok) begin
+            assert(written[f_a] == f_w);
+            if (f_w) assert(mem_bus[f_a] == f_val &&
+                            mem_eng[f_a] == {f_flags(f_areg, f_val), f_val});
+            // the fetch takes every channel in turn
+            assert(f_ch < CHANNELS);
+        end
+    end
+
+    // ---- the bus reads the register's value as of its request's clock
+    // (a read in the clock its word is written may see either value: the
+    // core never makes one, a request being a read or a write)
+    reg        f_rd = 1'b0;
+    reg [31:0] f_rd_want;
+    always @(posedge clk) begin
+        f_rd      <= f_ok && !rst && ra == f_a && !(wr && wa == f_a);
+        f_rd_want <= f_now;
+    end
+    always @(*) if (f_rd) assert(rd_data == f_rd_want);
+
+    // ---- every fetch hands its channel the field it named, clamped into
+    // the field's window unless lab was set in the clock after the read
+    reg        f1_ok = 1'b0, f2_ok = 1'b0;
+    reg        f1_hit, f2_hit, f2_lab;
+    reg [2:0]  f1_ch, f1_fld, f2_ch, f2_fld;
+    // the value as of the read, and as a write in that clock leaves it
+    // (a fetch that meets a write may take either)
+    reg [31:0] f1_v, f2_v, f1_vn, f2_vn;
+    always @(posedge clk) begin
+        f1_ok  <= f_ok && !rst;
+        f1_hit <= {f_ch, f_reg} == f_a;
+        f1_ch  <= f_ch;
+        f1_fld <= f_fld;
+        f1_v   <= f_now;
+        f1_vn  <= (wr && wa == f_a) ? wr_data : f_now;
+        f2_ok  <= f1_ok && !rst;
+        f2_hit <= f1_hit;
+        f2_ch  <= f1_ch;
+        f2_fld <= f1_fld;
+        f2_v   <= f1_v;
+        f2_vn  <= f1_vn;
+        f2_lab <= lab;
+    end
+    wire        f2_hi   = f2_fld == 3'd2 || f2_fld == 3'd4 || f2_fld == 3'd6;
+    wire [15:0] f2_half = f2_hi ? f2_v[31:16] : f2_v[15:0];
+    wire [15:0] f2_halfn = f2_hi ? f2_vn[31:16] : f2_vn[15:0];
+    always @(*) begin
+        if (f2_ok) begin
+            assert(dur_we == ({{(CHANNELS-1){1'b0}}, 1'b1} << f2_ch));
+            assert(dur_fld == f2_fld);
+            if (f2_hit) assert(dur == f_clamp(f2_half, f2_fld, f2_lab) ||
+                               dur == f_clamp(f2_halfn, f2_fld, f2_lab));
+        end
+        if (f_ok && !f2_ok) assert(dur_we == {CHANNELS{1'b0}});
+    end
+    always @(posedge clk) begin
+        if (f_ok && !rst)
+            assert(f_ch == (($past(f_ch) == LAST_CH || $past(rst)) ? 3'd0 : $past(f_ch) + 3'd1));
+    end
+`endif
 endmodule
 `default_nettype wire

@@ -20,7 +20,9 @@ module twh_uart_host #(
     parameter integer BAUD         = 115_200,
     parameter integer CHANNELS     = 3,
     parameter integer FIFO_DEPTH   = 16,
-    parameter integer TIMEOUT_BITS = 1024
+    parameter integer TIMEOUT_BITS = 1024,
+    parameter integer PROG_TIMING  = 1,     // twh_core's features (1: the full set)
+    parameter integer POLLING      = 1
 ) (
     input  wire                clk,
     input  wire                btn_rst,     // asynchronous, active high
@@ -64,7 +66,8 @@ module twh_uart_host #(
         .activity(activity), .fault(fault)
     );
 
-    twh_wb #(.CLK_HZ(CLK_HZ), .CHANNELS(CHANNELS), .FIFO_DEPTH(FIFO_DEPTH)) u_twh (
+    twh_wb #(.CLK_HZ(CLK_HZ), .CHANNELS(CHANNELS), .FIFO_DEPTH(FIFO_DEPTH),
+             .PROG_TIMING(PROG_TIMING), .POLLING(POLLING)) u_twh (
         .clk(clk), .rst(rst),
         .wb_adr_i(wb_adr), .wb_dat_i(wb_dat_w), .wb_dat_o(wb_dat_r),
         .wb_we_i(wb_we), .wb_sel_i(wb_sel), .wb_stb_i(wb_stb), .wb_cyc_i(wb_cyc),

@@ -1,9 +1,14 @@
 #!/usr/bin/env python3
 """Resource and Fmax benchmark: the bare Wishbone core (twh_wb, 16-deep
-FIFOs) at CHANNELS = 1 and 3 on each part, and the board tops (make boards)
-at CHANNELS = 1 and 3. Prints a table and, with --write, writes it into
-docs/resources.md. Figures are measured, never asserted: the goals of
-issue 5 are shown beside them.
+FIFOs) at CHANNELS = 1 and 3 on each part, the lean build (PROG_TIMING = 0,
+POLLING = 0) at one channel on the HX8K, and the board tops (make boards) at
+CHANNELS = 1 and 3, the iCEBreaker's also as the lean build. Fmax of the
+goal configurations over nextpnr seeds 1-5 at one and three channels.
+Prints a table and, with --write, writes it into docs/resources.md.
+Figures are measured, never asserted: each row of issue 19's goal table is
+shown beside its goal with how far off it is, and the iCEBreaker top at
+three channels and as the lean build side by side on the UP5K, with the
+logic cells left for a soft CPU.
 
 The bare core has ~90 pins: it fits the HX8K's CT256 and the ECP5's CABGA256
 packages (pins placed freely), not the UP5K's SG48; the UP5K figure is the
@@ -20,30 +25,44 @@ import synth  # noqa: E402
 
 ROOT = synth.ROOT
 
-# part, target MHz (issue 5's goal on that part)
-CORE_RUNS = [("hx8k", 120), ("ecp5-25f", 200)]
+# issue 19's goals. Area: logic cells of twh_wb (16-deep FIFOs) on the
+# HX8K, at most. Fmax: MHz on each part, at least, the median over SEEDS at
+# one and at three channels (twh_wb; the UP5K through the iCEBreaker top)
+GOALS = {
+    "full-1": ("full feature set, 1 channel, Wishbone, 16-deep FIFOs", 700),
+    "per-channel": ("each further channel: (LC at 3 - LC at 1) / 2", 250),
+    "full-3": ("3 channels, full feature set", 1200),
+    "lean-1": ("lean build (PROG_TIMING = 0, POLLING = 0), 1 channel", 450),
+}
+FMAX_GOALS = {"hx8k": 120, "up5k": 48, "ecp5-25f": 200}
+# part, target MHz (its Fmax goal)
+CORE_RUNS = [("hx8k", FMAX_GOALS["hx8k"]), ("ecp5-25f", FMAX_GOALS["ecp5-25f"])]
 CHANNELS = (1, 3)
+# the bare core's parameters: the full feature set is the default
+# (PROG_TIMING = POLLING = 1); the lean build is what a board with fixed
+# timing and no poller would pick
+FIFO = {"FIFO_DEPTH": "16"}
+LEAN = {"PROG_TIMING": "0", "POLLING": "0"}
 # nextpnr's placer seeds for the spread of the goal configurations (the
 # table itself is seed 1): a figure a few percent either side of a goal is
 # placement noise as much as design
 SEEDS = (1, 2, 3, 4, 5)
-GOALS = {
-    "hx8k": "<= 450 LCs at 1 channel, <= 150 per further channel; >= 120 MHz",
-    "ecp5-25f": ">= 200 MHz (speed 6)",
-    "up5k": ">= 48 MHz",
-}
+# the reference SoC-sized part (iCE40UP5K: logic cells, 4 kbit block RAMs)
+UP5K_LC, UP5K_RAM = 5280, 30
 
 
 # pieces of the one-channel core placed alone on the HX8K, every port a pin
-# (nothing trimmed): what each weighs by itself, against the goals of 450
-# logic cells for the whole core and 150 per further channel
+# (nothing trimmed): what each weighs by itself, against the goals of 700
+# logic cells for the whole core and 250 per further channel
 # (docs/architecture.md, "Area and speed")
-PIECES = [("twh_link", {}, "one channel's line engine (sequencer with clamp, carrier, "
+PIECES = [("twh_link", {}, "one channel's line engine (phase sequencer, carrier, "
                            "UART send with checksum, synchroniser, demodulator, receiver)"),
           ("twh_rx", {}, "its UART receiver (majority vote, start-bit re-check, "
                          "three bytes)"),
           ("twh_demod", {}, "its demodulator (glitch filter, carrier envelope)"),
-          ("twh_fifo", {"W": "33", "DEPTH": "16"}, "the 16-deep command FIFO")]
+          ("twh_fifo", {"W": "33", "DEPTH": "16"}, "the 16-deep command FIFO"),
+          ("twh_timing", {"CHANNELS": "3"}, "the timing registers of three channels "
+                                            "with their fetch and clamp (block RAM)")]
 
 
 def piece_runs():
@@ -74,30 +93,43 @@ def tool_versions():
 BOARDS = [("icebreaker", "up5k", "twh_icebreaker", 12, "constraints/icebreaker.pcf"),
           ("hx8k", "hx8k", "twh_hx8k", 12, "constraints/hx8k.pcf"),
           ("ulx3s", "ecp5-85f", "twh_ulx3s", 25, "constraints/ulx3s.lpf")]
+# board tops also built as the lean build at one channel (the SoC-sized check)
+LEAN_BOARDS = ("icebreaker",)
 
 
-def board_runs():
+def board_sources(board):
+    return sorted(str(p) for p in (ROOT / "boards" / board).glob("*.v"))
+
+
+def board_runs(runs):
     """Board tops with their pin constraints, at the board clock (the Fmax
-    column is what nextpnr reaches, the target the board's clock)."""
+    column is what nextpnr reaches, the target the board's clock). Each run
+    goes into runs under its name (<board>-<channels>, <board>-lean-1)."""
     rows = []
     for board, part, top, mhz, con in BOARDS:
-        srcs = sorted(str(p) for p in (ROOT / "boards" / board).glob("*.v"))
+        srcs = board_sources(board)
         if not srcs or not (ROOT / con).exists():
             continue
-        for ch in CHANNELS:
-            r = synth.synth(part, top, {"CHANNELS": str(ch)}, synth.core_sources() + srcs,
-                            mhz, ROOT / "build" / "bench" / f"{board}-{ch}",
+        builds = [(f"{board}-{ch}", {"CHANNELS": str(ch)}, f"{board} board top")
+                  for ch in CHANNELS]
+        if board in LEAN_BOARDS:
+            builds.append((f"{board}-lean-1", {"CHANNELS": "1", **LEAN},
+                           f"{board} board top, lean build"))
+        for name, params, what in builds:
+            r = synth.synth(part, top, params, synth.core_sources() + srcs,
+                            mhz, ROOT / "build" / "bench" / name,
                             constraints=ROOT / con)
-            r["board"] = board
-            rows.append(r)
-            print(fmt_row(r, f"{board} board top"), flush=True)
+            runs[name] = r
+            rows.append((what, r))
+            print(fmt_row(r, what), flush=True)
     return rows
 
 
 def seed_spread(part, top, params, files, mhz, name, constraints=None, first=None,
                 default_pnr=False):
     """Fmax over SEEDS (the seed-1 run given as first is reused); with
-    default_pnr, nextpnr without the flow's options (synth.PNR_FLOW)."""
+    default_pnr, nextpnr without the flow's options (synth.PNR_FLOW).
+    Returns the printed line and the median."""
     fmax = [first["fmax"]] if first else []
     tag = "-default-pnr" if default_pnr else ""
     for seed in SEEDS[1 if first else 0:]:
@@ -111,7 +143,67 @@ def seed_spread(part, top, params, files, mhz, name, constraints=None, first=Non
             f"(min {srt[0]:.1f}, median {srt[len(srt) // 2]:.1f}, max {srt[-1]:.1f}; "
             f"{met} of {len(fmax)} seeds reach {mhz:g})")
     print(line, flush=True)
-    return line
+    return line, srt[len(srt) // 2]
+
+
+def num(x, unit="LC"):
+    """A figure as printed: MHz with one decimal, logic cells whole unless
+    halved (928, 928.5)."""
+    return f"{x:.1f}" if unit == "MHz" else f"{x:.1f}".rstrip("0").rstrip(".")
+
+
+def vs_goal(what, value, goal, unit, at_most=True, why=None):
+    """One row of the goal table: the figure, its goal, how far off."""
+    if value is None:
+        return f"| {what} | not measured{f' ({why})' if why else ''} | " \
+               f"{'<=' if at_most else '>='} {goal} {unit} | |"
+    off = value - goal if at_most else goal - value
+    how = (f"{'over' if at_most else 'short'} by {num(off, unit)} {unit}" if off > 0
+           else f"met, {num(-off, unit)} {unit} to spare")
+    return (f"| {what} | {num(value, unit)} {unit} | {'<=' if at_most else '>='} {goal} {unit} | "
+            f"{how} |")
+
+
+def goal_rows(runs, medians, no_boards):
+    """Issue 19's goal table, every row beside its goal."""
+    lc = {k: (runs[n]["logic"] if n in runs else None) for k, n in
+          (("full-1", "hx8k-twh_wb-1"), ("full-3", "hx8k-twh_wb-3"),
+           ("lean-1", "hx8k-twh_wb-lean-1"))}
+    lc["per-channel"] = ((lc["full-3"] - lc["full-1"]) / 2
+                         if lc["full-1"] is not None and lc["full-3"] is not None else None)
+    rows = ["| configuration (HX8K unless named) | measured | goal | how far off |",
+            "|---|---|---|---|"]
+    for key in ("full-1", "per-channel", "full-3", "lean-1"):
+        what, goal = GOALS[key]
+        rows.append(vs_goal(what, lc[key], goal, "LC"))
+    for part, label in (("hx8k", "HX8K twh_wb"), ("up5k", "UP5K iCEBreaker top"),
+                        ("ecp5-25f", "ECP5-25F twh_wb")):
+        for ch in CHANNELS:
+            rows.append(vs_goal(f"Fmax, {label}, {ch} channel{'s' if ch > 1 else ''}, "
+                                f"median of seeds {SEEDS[0]}-{SEEDS[-1]}",
+                                medians.get((part, ch)), FMAX_GOALS[part], "MHz",
+                                at_most=False,
+                                why="--no-boards" if part == "up5k" and no_boards else None))
+    return rows
+
+
+def soc_rows(runs):
+    """The iCEBreaker top (UP5K) at three channels, full feature set, and as
+    the lean build at one channel, side by side: what is left for a CPU."""
+    cols = [("3 channels, full feature set", runs.get("icebreaker-3")),
+            ("lean build, 1 channel", runs.get("icebreaker-lean-1"))]
+    cols = [(w, r) for w, r in cols if r]
+    if not cols:
+        return []
+
+    def row(label, f):
+        return f"| {label} | " + " | ".join(f(r) for _, r in cols) + " |"
+    return [f"| iCEBreaker top, UP5K ({UP5K_LC} LC) | " + " | ".join(w for w, _ in cols) + " |",
+            "|---" * (len(cols) + 1) + "|",
+            row("logic cells", lambda r: f"{r['logic']}"),
+            row("of the UP5K", lambda r: f"{100 * r['logic'] / UP5K_LC:.1f} %"),
+            row("left for a soft CPU", lambda r: f"{UP5K_LC - r['logic']} LC"),
+            row(f"block RAM (of {UP5K_RAM})", lambda r: f"{r['ram']}")]
 
 
 def fmt_row(r, what):
@@ -127,50 +219,69 @@ def main():
     ap.add_argument("--no-boards", action="store_true")
     a = ap.parse_args()
 
+    # every seed-1 run by name, so that the seed spreads and the goal table
+    # reuse it rather than run it again
+    runs = {}
     rows = []
     for part, mhz in CORE_RUNS:
-        for ch in CHANNELS:
-            r = synth.synth(part, "twh_wb", {"CHANNELS": str(ch), "FIFO_DEPTH": "16"},
-                            synth.core_sources(), mhz,
-                            ROOT / "build" / "bench" / f"{part}-twh_wb-{ch}")
-            rows.append(("twh_wb (bare core)", r))
-            print(fmt_row(r, "twh_wb"), flush=True)
+        builds = [(f"{part}-twh_wb-{ch}", {"CHANNELS": str(ch), **FIFO},
+                   "twh_wb (bare core)") for ch in CHANNELS]
+        if part == "hx8k":
+            builds.append((f"{part}-twh_wb-lean-1", {"CHANNELS": "1", **FIFO, **LEAN},
+                           "twh_wb (bare core), lean build"))
+        for name, params, what in builds:
+            r = synth.synth(part, "twh_wb", params, synth.core_sources(), mhz,
+                            ROOT / "build" / "bench" / name)
+            runs[name] = r
+            rows.append((what, r))
+            print(fmt_row(r, what), flush=True)
     if not a.no_boards:
-        for r in board_runs():
-            rows.append((f"{r['board']} board top", r))
+        rows += board_runs(runs)
 
-    by = {(w, r["part"], r["params"].get("CHANNELS")): r for w, r in rows}
-    # the goal configurations over placer seeds: the core at one channel on
-    # each part with a goal, and the UP5K through the iCEBreaker board top
-    # each also without the flow's nextpnr options (where the part's family
-    # has any), so the table shows what they buy
-    spread, spread_default = [], []
+    # the goal configurations over placer seeds, at one and three channels:
+    # the core on each part with a goal, and the UP5K through the
+    # iCEBreaker board top at its 48 MHz goal (not the board clock, so its
+    # seed-1 run is a run of its own); at one channel each also without the
+    # flow's nextpnr options (where the part's family has any), so the
+    # table shows what they buy
+    spread, spread_default, medians = [], [], {}
 
-    def flows(part):
+    def flows(part, ch):
         fam = synth.PARTS[part]["family"]
-        return ((False, spread), (True, spread_default)) if synth.PNR_FLOW[fam] \
+        return ((False, spread), (True, spread_default)) if synth.PNR_FLOW[fam] and ch == 1 \
             else ((False, spread),)
     for part, mhz in CORE_RUNS:
-        for default_pnr, out in flows(part):
-            out.append(seed_spread(part, "twh_wb", {"CHANNELS": "1", "FIFO_DEPTH": "16"},
-                                   synth.core_sources(), mhz, f"{part}-twh_wb-1",
-                                   first=None if default_pnr else
-                                   by.get(("twh_wb (bare core)", part, "1")),
-                                   default_pnr=default_pnr))
+        for ch in CHANNELS:
+            name = f"{part}-twh_wb-{ch}"
+            for default_pnr, out in flows(part, ch):
+                line, median = seed_spread(part, "twh_wb", {"CHANNELS": str(ch), **FIFO},
+                                           synth.core_sources(), mhz, name,
+                                           first=None if default_pnr else runs.get(name),
+                                           default_pnr=default_pnr)
+                out.append(line)
+                if not default_pnr:
+                    medians[(part, ch)] = median
     if not a.no_boards and (ROOT / "constraints" / "icebreaker.pcf").exists():
-        srcs = sorted(str(p) for p in (ROOT / "boards" / "icebreaker").glob("*.v"))
-        for default_pnr, out in flows("up5k"):
-            out.append(seed_spread("up5k", "twh_icebreaker", {"CHANNELS": "1"},
-                                   synth.core_sources() + srcs, 48, "up5k-icebreaker-1",
-                                   constraints=ROOT / "constraints" / "icebreaker.pcf",
-                                   default_pnr=default_pnr))
+        for ch in CHANNELS:
+            for default_pnr, out in flows("up5k", ch):
+                line, median = seed_spread(
+                    "up5k", "twh_icebreaker", {"CHANNELS": str(ch)},
+                    synth.core_sources() + board_sources("icebreaker"), FMAX_GOALS["up5k"],
+                    f"up5k-icebreaker-{ch}",
+                    constraints=ROOT / "constraints" / "icebreaker.pcf",
+                    default_pnr=default_pnr)
+                out.append(line)
+                if not default_pnr:
+                    medians[("up5k", ch)] = median
     pieces = piece_runs()
     per_ch = []
     for part, _ in CORE_RUNS:
-        one, three = by.get(("twh_wb (bare core)", part, "1")), by.get(("twh_wb (bare core)", part, "3"))
+        one, three = runs.get(f"{part}-twh_wb-1"), runs.get(f"{part}-twh_wb-3")
         if one and three:
-            per_ch.append(f"- {part}: {(three['logic'] - one['logic']) / 2:.0f} logic cells "
+            per_ch.append(f"- {part}: {num((three['logic'] - one['logic']) / 2)} logic cells "
                           f"per further channel ({one['logic']} at 1, {three['logic']} at 3)")
+    goals = goal_rows(runs, medians, a.no_boards)
+    soc = soc_rows(runs)
 
     if a.write:
         head = ("| design | part | channels | logic cells (iCE40 LC / ECP5 COMB) | LUT4 | "
@@ -179,6 +290,7 @@ def main():
         body = "\n".join(fmt_row(r, w) for w, r in rows)
         flow = "; ".join(f"{fam} {' '.join(f'`{o}`' for o in opts) or 'none'}"
                          for fam, opts in synth.PNR_FLOW.items())
+        lean = ", ".join(f"{k} = {v}" for k, v in LEAN.items())
         text = f"""# Resources and Fmax
 
 Written by `make bench` (scripts/bench_synth.py) on {datetime.date.today()}; do not
@@ -187,7 +299,9 @@ from nextpnr's report (`--report`, seed 1), flip-flops and block RAMs from
 Yosys's statistics. The bare core's pins are placed freely (no constraint
 file); the board tops use the board constraints in `constraints/`.
 nextpnr runs with the flow's options (scripts/synth.py, `PNR_FLOW`):
-{flow}; the goal configurations are also shown without them.
+{flow}; the goal configurations at one channel are also shown without them.
+The full feature set is the parameters' default; the lean build is
+{lean} (fixed spec timing, no poller), the 16-deep FIFOs kept.
 
 Tools (pinned in requirements.txt):
 {chr(10).join('- ' + v for v in tool_versions())}
@@ -203,22 +317,34 @@ Fmax not shown):
 {chr(10).join(pieces)}
 
 Fmax of the goal configurations over nextpnr placer seeds {', '.join(map(str, SEEDS))}
-(one channel; the UP5K against the iCEBreaker top's 48 MHz goal, not its
-12 MHz board clock):
+(one and three channels; the UP5K against the iCEBreaker top's 48 MHz goal,
+not its 12 MHz board clock):
 {chr(10).join(spread)}
 
-The same without the flow's nextpnr options:
+The same without the flow's nextpnr options (one channel):
 {chr(10).join(spread_default)}
 
-Goals of issue 5 for the Wishbone core (one channel, 16-deep FIFOs):
-{chr(10).join(f'- {p}: {g}' for p, g in GOALS.items())}
+## Goals of issue 19
+
+Logic cells of twh_wb with 16-deep FIFOs on the HX8K (seed 1); Fmax the
+median over seeds {SEEDS[0]}-{SEEDS[-1]} above:
+
+{chr(10).join(goals)}
+
+## A soft CPU beside the core
+
+The iCEBreaker top on the UP5K, as in the table above (seed 1); it carries
+the UART bridge and LED drivers besides the core, which a SoC would trade
+for its CPU's bus:
+
+{chr(10).join(soc) or '(not measured: --no-boards)'}
 
 Where the area goes, and what is planned, is in docs/architecture.md
 ("Area and speed").
 """
         Path(ROOT / a.write).write_text(text)
         print(f"bench: wrote {a.write}")
-    for line in per_ch:
+    for line in per_ch + [""] + goals + [""] + soc:
         print(line)
     return 0
 

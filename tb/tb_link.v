@@ -66,22 +66,43 @@ module tb_link #(
     // twh_timing, here with one channel, its words written from the cfg_*
     // inputs one register per clock, with their window flags from the
     // core's twh_window, and cfg_unlock as the lab unlock.
+    // (written for three clocks after a change of cfg_* or a reset, which
+    // clears them: a memory write every clock costs the simulation dearly)
     reg  [1:0]  t_reg = 2'd0;
-    always @(posedge clk) t_reg <= (t_reg == 2'd2) ? 2'd0 : t_reg + 2'd1;
+    reg  [1:0]  t_left = 2'd3;
+    reg  [95:0] t_cfg_q;
+    wire [95:0] t_cfg = {cfg_charge_us, cfg_sync_us, cfg_preamble_us,
+                         cfg_execute_us, cfg_listen_us, cfg_turnaround_us};
+    always @(posedge clk) begin
+        t_reg   <= (t_reg == 2'd2) ? 2'd0 : t_reg + 2'd1;
+        t_cfg_q <= t_cfg;
+        if (rst || t_cfg != t_cfg_q) t_left <= 2'd3;
+        else if (t_left != 2'd0)     t_left <= t_left - 2'd1;
+    end
+    wire        t_wr = !rst && t_left != 2'd0;
     wire [31:0] t_word = (t_reg == 2'd0) ? {cfg_sync_us, cfg_charge_us} :
                          (t_reg == 2'd1) ? {cfg_execute_us, cfg_preamble_us} :
                                            {cfg_turnaround_us, cfg_listen_us};
-    wire [3:0]  t_cmp;
-    twh_window u_w (.sel(t_reg), .value(t_word),
-                    .lo_below(t_cmp[0]), .lo_above(t_cmp[1]),
-                    .hi_below(t_cmp[2]), .hi_above(t_cmp[3]));
+    // (one checker per register, so each is evaluated only when its
+    // inputs change, not every clock)
+    wire [3:0]  t_cmp0, t_cmp1, t_cmp2;
+    twh_window u_w0 (.sel(2'd0), .value({cfg_sync_us, cfg_charge_us}),
+                     .lo_below(t_cmp0[0]), .lo_above(t_cmp0[1]),
+                     .hi_below(t_cmp0[2]), .hi_above(t_cmp0[3]));
+    twh_window u_w1 (.sel(2'd1), .value({cfg_execute_us, cfg_preamble_us}),
+                     .lo_below(t_cmp1[0]), .lo_above(t_cmp1[1]),
+                     .hi_below(t_cmp1[2]), .hi_above(t_cmp1[3]));
+    twh_window u_w2 (.sel(2'd2), .value({cfg_turnaround_us, cfg_listen_us}),
+                     .lo_below(t_cmp2[0]), .lo_above(t_cmp2[1]),
+                     .hi_below(t_cmp2[2]), .hi_above(t_cmp2[3]));
+    wire [3:0]  t_cmp = (t_reg == 2'd0) ? t_cmp0 : (t_reg == 2'd1) ? t_cmp1 : t_cmp2;
     wire [2:0]  nx_fld, dur_fld;
     wire [15:0] dur;
     wire        dur_we;
     wire [31:0] t_rd_unused;
     twh_timing #(.CHANNELS(1)) u_timing (
         .clk(clk), .rst(rst), .lab(cfg_unlock),
-        .wr(1'b1), .wr_ch(3'd0), .wr_reg(t_reg), .wr_data(t_word), .wr_cmp(t_cmp),
+        .wr(t_wr), .wr_ch(3'd0), .wr_reg(t_reg), .wr_data(t_word), .wr_cmp(t_cmp),
         .rd_ch(3'd0), .rd_reg(2'd0), .rd_data(t_rd_unused),
         .nx_fld(nx_fld), .dur_we(dur_we), .dur(dur), .dur_fld(dur_fld)
     );

@@ -10,8 +10,11 @@
 // which reconfigures the FPGA).
 `default_nettype none
 module twh_hx8k #(
-    parameter integer CHANNELS = 3,          // 1..3
-    parameter integer BAUD     = 115_200
+    parameter integer CHANNELS    = 3,       // 1..3
+    parameter integer BAUD        = 115_200,
+    // features of the core (twh_core; 1, the default, is the full set)
+    parameter integer PROG_TIMING = 1,       // 0: timing fixed at the spec defaults
+    parameter integer POLLING     = 1        // 0: no autonomous poller
 ) (
     input  wire       clk_12m,
     input  wire       uart_rx,               // from the FTDI (its TXD)
@@ -32,7 +35,8 @@ module twh_hx8k #(
     wire [CHANNELS-1:0] line_o, line_oe, line_i, led_line;
     wire led_uart, led_fault, led_irq, led_ready;
 
-    twh_uart_host #(.CLK_HZ(CLK_HZ), .BAUD(BAUD), .CHANNELS(CHANNELS)) u_host (
+    twh_uart_host #(.CLK_HZ(CLK_HZ), .BAUD(BAUD), .CHANNELS(CHANNELS),
+                    .PROG_TIMING(PROG_TIMING), .POLLING(POLLING)) u_host (
         .clk(clk_12m), .btn_rst(1'b0), .uart_rx(uart_rx), .uart_tx(uart_tx),
         .line_o(line_o), .line_oe(line_oe), .line_i(line_i),
         .led_line(led_line), .led_uart(led_uart), .led_fault(led_fault),

@@ -10,8 +10,11 @@
 // switch the board off).
 `default_nettype none
 module twh_ulx3s #(
-    parameter integer CHANNELS = 3,          // 1..3
-    parameter integer BAUD     = 115_200
+    parameter integer CHANNELS    = 3,       // 1..3
+    parameter integer BAUD        = 115_200,
+    // features of the core (twh_core; 1, the default, is the full set)
+    parameter integer PROG_TIMING = 1,       // 0: timing fixed at the spec defaults
+    parameter integer POLLING     = 1        // 0: no autonomous poller
 ) (
     input  wire       clk_25mhz,
     input  wire       btn_fire1,             // high when pressed
@@ -38,7 +41,8 @@ module twh_ulx3s #(
     wire [CHANNELS-1:0] line_o, line_oe, line_i, led_line;
     wire led_uart, led_fault, led_irq, led_ready;
 
-    twh_uart_host #(.CLK_HZ(CLK_HZ), .BAUD(BAUD), .CHANNELS(CHANNELS)) u_host (
+    twh_uart_host #(.CLK_HZ(CLK_HZ), .BAUD(BAUD), .CHANNELS(CHANNELS),
+                    .PROG_TIMING(PROG_TIMING), .POLLING(POLLING)) u_host (
         .clk(clk_25mhz), .btn_rst(btn_fire1), .uart_rx(ftdi_txd), .uart_tx(ftdi_rxd),
         .line_o(line_o), .line_oe(line_oe), .line_i(line_i),
         .led_line(led_line), .led_uart(led_uart), .led_fault(led_fault),
