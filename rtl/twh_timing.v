@@ -76,7 +76,7 @@ module twh_timing #(
     localparam [31:0] WORDS = {{(32 - CHANNELS*4){1'b0}}, {CHANNELS{4'b0111}}};
     always @(posedge clk) begin
         if (rst) written <= 32'd0;
-        else     written <= (written | ({31'd0, wr} << wa)) & WORDS;
+        else     written <= (written | (wr ? 32'd1 << wa : 32'd0)) & WORDS;
     end
 
     // ------------------------------------------------------------ bus read
