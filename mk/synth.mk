@@ -16,4 +16,4 @@ synth-smoke: deps
 	    --out build/synth/smoke --require-clean
 
 bench-synth: deps
-	$(PY) scripts/bench_synth.py --write docs/resources.md
+	$(PY) scripts/bench_synth.py --jobs $(JOBS) --write docs/resources.md

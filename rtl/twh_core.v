@@ -368,7 +368,7 @@ module twh_core #(
     // register (a read and a write are never in it together); its word
     // comes out of the block RAM's register in the answer's clock
     wire [2:0]  q_blk = q_addr[7:5] - 3'd2;      // q_addr[8:5] - 2 of a channel block
-    twh_timing #(.CHANNELS(CHANNELS)) u_timing (
+    twh_timing #(.CHANNELS(CHANNELS), .PROG(PROG_TIMING)) u_timing (
         .clk(clk), .rst(rst), .lab(lab),
         .wr(q_wr_t && t_take), .wr_ch(q_blk), .wr_reg(q_addr[3:2]),
         .wr_data(q_wdata), .wr_cmp(q_cmp),

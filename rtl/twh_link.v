@@ -40,8 +40,6 @@ module twh_link #(
     input  wire             dur_we,
     input  wire [15:0]      dur_in,
     input  wire [2:0]       dur_fld_in,
-    // bit k for duration k (0 charge, 1 sync, 2 preamble, 3 execute,
-    // 4 listen, 5 turnaround): it lies below / above its spec window
     input  wire             cfg_idle_charge,
     // command stream
     input  wire             s_cmd_valid,
@@ -168,11 +166,8 @@ module twh_link #(
     reg        saw_low;    // the line read low during sync
     reg        saw_high;   // the line read high during preamble
 
-    // The next phase's length, registered a phase ahead in two steps (pick
-    // the value with its window flags, then clamp it): a phase lasts at
-    // least one carrier period, which is at least 4 clocks, so the value has
-    // settled long before it is loaded, and neither the six-way pick nor
-    // the clamp's choice sit on one clock's path.
+    // The next phase's length arrives from twh_timing, fetched and clamped
+    // there while the phase before it runs; dur_next holds it.
     // The field the next programmable phase loads (twh_timing's codes:
     // 1 charge, 2 sync, 3 preamble, 4 execute, 5 listen, 6 turnaround). The
     // command phase and the idle after a turnaround have fixed lengths, so
@@ -445,16 +440,20 @@ module twh_link #(
     endfunction
 
     // The lengths as twh_timing hands them to a single channel: a delivery
-    // every clock, for the field named two clocks before; f_unl_in: the lab
-    // unlock was on when it was clamped (then any length, 0 included).
+    // every clock but the two after a reset, for the field named two clocks
+    // before; f_unl_in: the lab unlock was on when it was clamped (then any
+    // length, 0 included).
     (* anyseq *) reg f_unl_in;
     reg [2:0] f_nx1, f_nx2;
+    reg [1:0] f_rs2;
     always @(posedge clk) begin
         f_nx1 <= nx_fld;
         f_nx2 <= f_nx1;
+        f_rs2 <= {f_rs2[0], rst};
     end
     always @(*) begin
-        if (f_hist[1]) assume(dur_we && dur_fld_in == f_nx2);
+        if (f_hist[1]) assume(dur_we == (f_rs2 == 2'b00));
+        if (dur_we) assume(dur_fld_in == f_nx2);
         if (dur_we) assume(dur_fld_in >= 3'd1 && dur_fld_in <= 3'd6);
         if (dur_we && !f_unl_in) assume(f_in_window(f_ph_of(dur_fld_in), dur_in));
     end
@@ -503,7 +502,7 @@ module twh_link #(
     // ------------------------------------------------ phase lengths
     // f_dur: the length loaded for the current phase (2001 for the hold-off
     // after reset); f_ticks: ticks of it already over; f_dur_unl: whether
-    // cfg_unlock was set when that length was picked.
+    // the lab unlock was on when that length was clamped (f_unl_in).
     reg [15:0] f_dur, f_ticks;
     reg        f_dur_unl;
     // the length a loaded value stands for: 0 counts as 1

@@ -26,7 +26,11 @@
 `default_nettype none
 `include "twh_defs.vh"
 module twh_timing #(
-    parameter integer CHANNELS = 1
+    parameter integer CHANNELS = 1,
+    // 0: the core's PROG_TIMING = 0 (never written): every length is its
+    // default, handed over straight from the field named, with no memory
+    // and no pipeline
+    parameter integer PROG     = 1
 ) (
     input  wire                  clk,
     input  wire                  rst,
@@ -86,7 +90,7 @@ module twh_timing #(
         rb_written <= written[ra];
         rb_reg     <= rd_reg;
     end
-    assign rd_data = rb_written ? rb_word : def_word(rb_reg);
+    assign rd_data = (PROG != 0 && rb_written) ? rb_word : def_word(rb_reg);
 
     // ------------------------------------------------------------ fetch
     // stage 0: the channel in turn names its field and the word is read;
@@ -139,10 +143,18 @@ module twh_timing #(
     end
     localparam integer ONE_I = 1;
     localparam [CHANNELS-1:0] ONE = ONE_I[CHANNELS-1:0];
+    wire [31:0] fx_word = def_word(f_reg);
     always @(*) begin
-        dur_we  = {CHANNELS{p_ok}} & (ONE << p_ch);
-        dur     = p_b ? w_lo : p_a ? w_hi : p_v;
-        dur_fld = p_fld;
+        if (PROG != 0) begin
+            dur_we  = {CHANNELS{p_ok}} & (ONE << p_ch);
+            dur     = p_b ? w_lo : p_a ? w_hi : p_v;
+            dur_fld = p_fld;
+        end else begin
+            // the defaults lie in their windows: nothing to clamp
+            dur_we  = ONE << f_ch;
+            dur     = (f_fld == 3'd2 || f_fld == 3'd4 || f_fld == 3'd6) ? fx_word[31:16] : fx_word[15:0];
+            dur_fld = f_fld;
+        end
     end
 
 `ifdef FORMAL
@@ -202,7 +214,9 @@ module twh_timing #(
 
     integer f_c;
     always @(*) begin
-        if (wr) assume(wr_reg <= 2'd2 && wr_ch < CHANNELS && wr_cmp == f_flags(wr_reg, wr_data));
+        // (with PROG = 0 the core never writes: its PROG_TIMING is 0)
+        if (wr) assume(PROG != 0 && wr_reg <= 2'd2 && wr_ch < CHANNELS &&
+                       wr_cmp == f_flags(wr_reg, wr_data));
         for (f_c = 0; f_c < CHANNELS; f_c = f_c + 1)
             assume(nx_fld[f_c*3 +: 3] >= 3'd1 && nx_fld[f_c*3 +: 3] <= 3'd6);
     end
@@ -224,6 +238,7 @@ module twh_timing #(
         end
     end
     wire [31:0] f_now = f_w ? f_val : f_def(f_areg);      // the register's value
+    wire [31:0] f_dw  = f_def(f_reg);                     // the default of the field fetched
 
     always @(*) begin
         if (f_ok) begin
@@ -232,6 +247,8 @@ module twh_timing #(
                             mem_eng[f_a] == {f_flags(f_areg, f_val), f_val});
             // the fetch takes every channel in turn
             assert(f_ch < CHANNELS);
+            // fixed timing: nothing is ever written
+            if (PROG == 0) assert(!f_w);
         end
     end
 
@@ -273,13 +290,19 @@ module twh_timing #(
     wire [15:0] f2_half = f2_hi ? f2_v[31:16] : f2_v[15:0];
     wire [15:0] f2_halfn = f2_hi ? f2_vn[31:16] : f2_vn[15:0];
     always @(*) begin
-        if (f2_ok) begin
+        if (PROG == 0 && f_ok) begin
+            // fixed timing: each channel in turn gets its field's default
+            assert(dur_we == ({{(CHANNELS-1){1'b0}}, 1'b1} << f_ch));
+            assert(dur_fld == f_fld);
+            assert(dur == f_clamp(f_fld[0] ? f_dw[15:0] : f_dw[31:16], f_fld, 1'b0));
+        end
+        if (PROG != 0 && f2_ok) begin
             assert(dur_we == ({{(CHANNELS-1){1'b0}}, 1'b1} << f2_ch));
             assert(dur_fld == f2_fld);
             if (f2_hit) assert(dur == f_clamp(f2_half, f2_fld, f2_lab) ||
                                dur == f_clamp(f2_halfn, f2_fld, f2_lab));
         end
-        if (f_ok && !f2_ok) assert(dur_we == {CHANNELS{1'b0}});
+        if (PROG != 0 && f_ok && !f2_ok) assert(dur_we == {CHANNELS{1'b0}});
     end
     always @(posedge clk) begin
         if (f_ok && !rst)

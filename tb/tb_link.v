@@ -74,7 +74,7 @@ module tb_link #(
     wire [95:0] t_cfg = {cfg_charge_us, cfg_sync_us, cfg_preamble_us,
                          cfg_execute_us, cfg_listen_us, cfg_turnaround_us};
     always @(posedge clk) begin
-        t_reg   <= (t_reg == 2'd2) ? 2'd0 : t_reg + 2'd1;
+        if (t_left != 2'd0) t_reg <= (t_reg == 2'd2) ? 2'd0 : t_reg + 2'd1;
         t_cfg_q <= t_cfg;
         if (rst || t_cfg != t_cfg_q) t_left <= 2'd3;
         else if (t_left != 2'd0)     t_left <= t_left - 2'd1;
