@@ -368,9 +368,10 @@ module twh_core #(
     // register (a read and a write are never in it together); its word
     // comes out of the block RAM's register in the answer's clock
     wire [2:0]  q_blk = q_addr[7:5] - 3'd2;      // q_addr[8:5] - 2 of a channel block
+    wire        t_wr  = q_wr_t && t_take;        // a timing write taken
     twh_timing #(.CHANNELS(CHANNELS), .PROG(PROG_TIMING)) u_timing (
         .clk(clk), .rst(rst), .lab(lab),
-        .wr(q_wr_t && t_take), .wr_ch(q_blk), .wr_reg(q_addr[3:2]),
+        .wr(t_wr), .wr_ch(q_blk), .wr_reg(q_addr[3:2]),
         .wr_data(q_wdata), .wr_cmp(q_cmp),
         .rd_ch(q_blk), .rd_reg(q_addr[3:2]), .rd_data(t_rdata),
         .nx_fld(c_nx_fld), .dur_we(t_dur_we), .dur(t_dur), .dur_fld(t_dur_fld)
@@ -628,7 +629,7 @@ module twh_core #(
             if (wr && ch_exists && ch_reg == 3'd3) assert(q_win_p == f_cw_ok);
             // twh_timing takes the write exactly when the rule takes it, at
             // its address, with the value's window flags
-            assert((q_wr_t && t_take) == (wr && ch_exists && ch_reg <= 3'd2 && f_cw_ok));
+            assert(t_wr == (wr && ch_exists && ch_reg <= 3'd2 && f_cw_ok));
             if (wr && ch_exists && ch_reg <= 3'd2) assert(q_cmp == f_cmp);
             // REFUSED is raised by exactly the channel writes not taken
             assert(refused == (wr && ch_exists && ch_reg <= 3'd3 && !f_cw_ok));
