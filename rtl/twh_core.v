@@ -368,12 +368,13 @@ module twh_core #(
     // register (a read and a write are never in it together); its word
     // comes out of the block RAM's register in the answer's clock
     wire [2:0]  q_blk = q_addr[7:5] - 3'd2;      // q_addr[8:5] - 2 of a channel block
+    wire [1:0]  q_treg = q_addr[3:2];            // TIMING0-2 of a channel block
     wire        t_wr  = q_wr_t && t_take;        // a timing write taken
     twh_timing #(.CHANNELS(CHANNELS), .PROG(PROG_TIMING)) u_timing (
         .clk(clk), .rst(rst), .lab(lab),
-        .wr(t_wr), .wr_ch(q_blk), .wr_reg(q_addr[3:2]),
+        .wr(t_wr), .wr_ch(q_blk), .wr_reg(q_treg),
         .wr_data(q_wdata), .wr_cmp(q_cmp),
-        .rd_ch(q_blk), .rd_reg(q_addr[3:2]), .rd_data(t_rdata),
+        .rd_ch(q_blk), .rd_reg(q_treg), .rd_data(t_rdata),
         .nx_fld(c_nx_fld), .dur_we(t_dur_we), .dur(t_dur), .dur_fld(t_dur_fld)
     );
 
@@ -713,8 +714,9 @@ module twh_core #(
     reg f_trd_q;
     always @(posedge clk) f_trd_q <= rd && mapped && is_ch && ch_reg <= 3'd2;
     always @(*) if (f_chk_rd) assert(reg_rdata == (f_rdata_q | ({32{f_trd_q}} & t_rdata)));
-    always @(*) if (f_rs && f_h && rd && ch_exists && ch_reg <= 3'd2)
-        assert(q_blk == ch_sel);
+    // twh_timing is handed the word the request names, for a read or a write
+    always @(*) if (f_rs && f_h && ch_exists && ch_reg <= 3'd2)
+        assert(q_blk == ch_sel && q_treg == ch_reg[1:0]);
 
     // The interrupt as registers.md words it, with the sources written out
     // from the state they stand for: RESULT while the result FIFO held at
