@@ -11,7 +11,9 @@
 module twh_core #(
     parameter integer CLK_HZ     = 48_000_000,
     parameter integer CHANNELS   = 1,
-    parameter integer FIFO_DEPTH = 16
+    parameter integer FIFO_DEPTH = 16,
+    parameter integer PROG_TIMING = 1,   // the real core's feature parameters: the
+    parameter integer POLLING     = 1    // wrappers pass them on; nothing here uses them
 ) (
     input  wire                clk,
     input  wire                rst,
