@@ -35,7 +35,7 @@ module twh_link #(
 ) (
     input  wire             clk,
     input  wire             rst,
-    // timing, microseconds
+    // phase lengths (microseconds) from twh_timing
     output wire [2:0]       nx_fld,         // 1 charge .. 6 turnaround: needed next
     input  wire             dur_we,
     input  wire [15:0]      dur_in,

@@ -60,8 +60,8 @@ module twh_timing #(
     endfunction
 
     // ------------------------------------------------------------ storage
-    // 32 words whatever CHANNELS is ({channel, register}), so the memory
-    // maps to block RAM rather than flip-flops. A read in the clock its word
+    // 32 words whatever CHANNELS is ({channel, register}: the address needs
+    // no arithmetic); one block RAM deep on the iCE40s. A read in the clock its word
     // is written may see the old or the new value (no_rw_check: no
     // collision logic in front of the RAM): the bus never reads a word in
     // its write's clock (a request is a read or a write), and a fetch that
