@@ -136,7 +136,12 @@ module twh_core #(
     wire       i_rd     = reg_req && !reg_we;
     wire       i_grd    = i_rd && !i_is_ch;          // a read of a global register
     integer    i_n;
-    always @(posedge clk) begin
+    // The request stage loads only around a request (this one, or the clock
+    // after one, which clears its strobes); between requests every strobe
+    // is already 0 and the rest is unused. Icarus runs every clocked block
+    // on every clock, and the idle bus was most of the core's cost there.
+    wire       i_load   = rst || reg_req || q_req;
+    always @(posedge clk) if (i_load) begin
         for (i_n = 0; i_n < CHANNELS; i_n = i_n + 1) begin
             q_ch[i_n]   <= !rst && i_wr && (i_blk[2:0] == i_n[2:0]);
             q_r_cr[i_n*3 +: 3] <= (!rst && i_rd && i_ch_ok && reg_addr[4:2] >= 3'd3 &&
@@ -176,7 +181,7 @@ module twh_core #(
     reg [8:0]  q_addr;
     reg [31:0] q_wdata;
     wire       res_valid_next;   // the result FIFO's !empty of the next clock
-    always @(posedge clk) begin
+    always @(posedge clk) if (i_load) begin
         q_req      <= !rst && reg_req;
         q_wr       <= !rst && i_wr;
         q_rd       <= !rst && reg_req && !reg_we;
@@ -460,7 +465,9 @@ module twh_core #(
             err_bad_channel <= 1'b0;
             err_link        <= 1'b0;
             poll_ready      <= 8'd0;
-        end else begin
+        end else if (q_req || dispatch || push_link_err || c_poll_err != 0 || sample8 != 0) begin
+            // (nothing below acts without one of these: the strobes are 0
+            // between requests)
             // A flush cancels exactly the commands queued when it is written;
             // commands pushed after it run normally.
             if (dispatch && flushing) begin
@@ -568,8 +575,11 @@ module twh_core #(
             reg_ack   <= q_req;
             reg_err   <= q_req && (!mapped || (q_we && !full_word) ||
                                      (push_req && (push_bad_ch || cmd_full)));
-            rdata_q   <= g_rdata | c_rdata;
-            t_rd_q    <= q_r_t;
+            // between answers the read selects are 0, and so are these
+            if (q_req || reg_ack) begin
+                rdata_q <= g_rdata | c_rdata;
+                t_rd_q  <= q_r_t;
+            end
         end
     end
     assign reg_rdata = rdata_q | ({32{t_rd_q}} & t_rdata);
@@ -602,6 +612,18 @@ module twh_core #(
     // than taken from twh_defs.vh.
     reg f_rs = 1'b0;          // a reset has been seen
     always @(posedge clk) if (rst) f_rs <= 1'b1;
+    // What the request and answer stages' load guards rest on: with no
+    // request in the stage every strobe and select is 0, and with no
+    // answer the read word is 0.
+    always @(*) if (f_rs && !q_req) begin
+        assert({q_wr, q_rd, q_wr_t, q_r_t, q_ref_p, q_ch, q_r_cr} == 0);
+        assert({q_r_id, q_r_version, q_r_params, q_r_ctrl, q_r_status, q_r_levels,
+                q_r_errors, q_r_irq_en, q_r_irq_status, q_r_poll_ready, q_r_res_info,
+                q_r_res_pop} == 0);
+        assert({q_ctrl, q_flush, q_errors, q_irq_en, q_poll_ready, q_push, q_push_ch,
+                q_pop, q_lab_key, q_fact_key} == 0);
+    end
+    always @(*) if (f_rs && !reg_ack) assert(rdata_q == 32'd0 && !t_rd_q);
     wire [15:0] f_lo = q_wdata[15:0], f_hi = q_wdata[31:16];
     wire [7:0]  f_c  = q_wdata[7:0];
     reg         f_cw_ok;
@@ -749,6 +771,7 @@ module twh_core #(
 `ifdef TWH_F_CORE
     reg f_ok = 1'b0;
     always @(posedge clk) if (rst) f_ok <= 1'b1;
+    always @(*) assert(f_ok == f_rs);        // both mark the first reset
 
     // ------------------------------------------------ command FIFO probes
     localparam integer F_AW = $clog2(FIFO_DEPTH);

@@ -202,10 +202,13 @@ module twh_link #(
     // clocks) apart, so its decodes are registered: at every tick they are
     // those of the count as it stands, and the 16-bit compare is off the
     // path into the phase, bit and frame registers.
+    // They are taken in the clock after a tick (tick_d), the only one after
+    // cnt, the phase or the bit may have changed.
+    reg tick_d;
     reg last;          // cnt <= 1: this period is the phase's last
     reg bit_end;       // a command bit's last period, not the phase's
     reg byte_end;      // bit_end of a character's last (second stop) bit
-    always @(posedge clk) begin
+    always @(posedge clk) if (rst || tick_d) begin
         last     <= !rst && (cnt[15:1] == 15'd0);
         bit_end  <= !rst && ph_oh[`TWH_PH_COMMAND] && (cnt[4:0] == 5'd1) && (cnt != 16'd1);
         byte_end <= !rst && (bitn == 4'd10);
@@ -347,7 +350,7 @@ module twh_link #(
                     || ph_oh[`TWH_PH_CHARGE] || ph_oh[`TWH_PH_PREAMBLE] || ph_oh[`TWH_PH_EXECUTE]
                     || (ph_oh[`TWH_PH_COMMAND] && tx_level);
 
-    reg tick_d, fall_d;
+    reg fall_d;
     always @(posedge clk) begin
         if (rst) begin
             tick_d  <= 1'b0;
