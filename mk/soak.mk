@@ -24,7 +24,7 @@ SOAK_OBJ      := $(SOAK_DIR)/obj
 SOAK_BIN      := $(SOAK_DIR)/soak
 SOAK_PROF_H   := $(SOAK_DIR)/gen/soak_profiles.h
 SOAK_RTL      := $(RTL) tb/tb_line.v sim/soak/soak_top.v
-SOAK_DRV      := $(SOAK_DIR)/twh.o $(SOAK_DIR)/twh_decode.o
+SOAK_DRV      := $(SOAK_DIR)/twh.o $(SOAK_DIR)/twh_decode.o $(SOAK_DIR)/twh_page.o
 SOAK_CXXOBJ   := $(SOAK_DIR)/soak_main.o $(SOAK_DIR)/periph.o
 SOAK_VLIB     := $(SOAK_OBJ)/Vsoak_top__ALL.a $(SOAK_OBJ)/verilated.o $(SOAK_OBJ)/verilated_threads.o
 SOAK_VINC      = $(shell verilator --getenv VERILATOR_ROOT 2>/dev/null)/include
@@ -34,7 +34,7 @@ SOAK_CFLAGS   := -std=c99 -Wall -Wextra -Werror -pedantic -Wshadow -Wconversion 
                  -Wstrict-prototypes -Wmissing-prototypes -O2 -Isw/include
 SOAK_CXXFLAGS  = -std=c++17 -Wall -Wextra -Werror -O2 \
                  -DSOAK_CLK_HZ=$(SOAK_CLK_HZ) -DSOAK_CHANNELS=$(SOAK_CHANNELS) \
-                 -I$(SOAK_OBJ) -I$(SOAK_DIR)/gen -Isw/include \
+                 -I$(SOAK_OBJ) -I$(SOAK_DIR)/gen -Isw/include -Isw/tools \
                  -isystem $(SOAK_VINC) -isystem $(SOAK_VINC)/vltstd
 # -O3 / --x-assign fast: speed; the model is one clock, synchronous reset
 SOAK_VFLAGS   := --cc -O3 --x-assign fast --x-initial fast --noassert -Wall \
@@ -93,9 +93,34 @@ $(SOAK_DIR)/%.o: sw/src/%.c sw/include/twh.h sw/include/twh_regs.h
 	@mkdir -p $(SOAK_DIR)
 	gcc $(SOAK_CFLAGS) -c $< -o $@
 
+$(SOAK_DIR)/twh_page.o: sw/tools/twh_page.c sw/tools/twh_page.h sw/include/twh.h
+	@mkdir -p $(SOAK_DIR)
+	gcc $(SOAK_CFLAGS) -Isw/tools -c $< -o $@
+
 $(SOAK_DIR)/%.o: sim/soak/%.cpp sim/soak/periph.h $(SOAK_PROF_H) $(SOAK_OBJ)/Vsoak_top.mk \
                  sw/include/twh.h sw/include/twh_regs.h mk/soak.mk
 	nice g++ $(SOAK_CXXFLAGS) -c $< -o $@
 
 $(SOAK_BIN): $(SOAK_CXXOBJ) $(SOAK_DRV) $(SOAK_VLIB)
 	g++ -o $@ $(SOAK_CXXOBJ) $(SOAK_DRV) $(SOAK_VLIB) -pthread -latomic
+
+# make demo (Makefile): the soak harness in --page mode runs the sensor-page
+# tool on the LiteX SoC's three cells (soc/cells.py: O2 v18, O2 v15, CO2),
+# so the Verilated model is the soak's and only the harness is compiled
+# again, against those cells.
+DEMO_DIR      := build/demo
+DEMO_PAGE     := $(DEMO_DIR)/demo_page
+DEMO_PROF_H   := $(DEMO_DIR)/gen/soak_profiles.h
+DEMO_CXXOBJ   := $(DEMO_DIR)/soak_main.o $(DEMO_DIR)/periph.o
+
+$(DEMO_PROF_H): soc/cells.py sim/soak/gen_profiles.py tb/profiles.py tb/flashmap.py \
+                tb/protocol.py tb/vectors/flash_o2.json tb/vectors/flash_co2.json | deps
+	@mkdir -p $(dir $@)
+	$(PY) soc/cells.py $@
+
+$(DEMO_DIR)/%.o: sim/soak/%.cpp sim/soak/periph.h $(DEMO_PROF_H) $(SOAK_OBJ)/Vsoak_top.mk \
+                 sw/include/twh.h sw/include/twh_regs.h sw/tools/twh_page.h mk/soak.mk
+	nice g++ -I$(DEMO_DIR)/gen $(SOAK_CXXFLAGS) -c $< -o $@
+
+$(DEMO_PAGE): $(DEMO_CXXOBJ) $(SOAK_DRV) $(SOAK_VLIB)
+	g++ -o $@ $(DEMO_CXXOBJ) $(SOAK_DRV) $(SOAK_VLIB) -pthread -latomic

@@ -1,13 +1,15 @@
 #!/usr/bin/env python3
-"""Checks the UART output of the simulated LiteX SoC (docs/soc.md) against
-the shared vectors: every channel's page must be, line for line, the page
-tb/sensor_page.py derives from the vector image its cell carries
-(tb/vectors/flash_o2.json, flash_co2.json) and the cell's raw readings,
-through the project's Python map and conversion rules (tb/flashmap.py,
-tb/protocol.py, held to the same vectors by tb/test_protocol.py) - the
-page the PC tool's test expects too. The run must also have used
-the interrupt: wait_irq called, every wait ended by the core's interrupt,
-none by its timeout, and at least one that had to wait for it.
+"""Checks the output of the sensor-page tool, as the simulated LiteX SoC
+prints it on its UART (docs/soc.md) and `make demo` prints it from the
+Verilated core (build/demo/page.txt), against the shared vectors: every
+channel's page must be, line for line, the page tb/sensor_page.py derives
+from the vector image its cell carries (tb/vectors/flash_o2.json,
+flash_co2.json) and the cell's raw readings, through the project's Python
+map and conversion rules (tb/flashmap.py, tb/protocol.py, held to the same
+vectors by tb/test_protocol.py) - the page the PC tool's test expects too.
+The run must also have used the interrupt: wait_irq called, every wait ended
+by the core's interrupt, none by its timeout, and at least one that had to
+wait for it.
 
     check_page.py UART_LOG [--clk-khz 4000] [--channels 3] [--fifo-depth 16]
 """

@@ -8,6 +8,10 @@
 
 #include "twh.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef struct twh_page_opts {
     int         quick;        /* firmware and raw readings only, no flash reads */
     long        only;         /* this channel only; -1: every channel */
@@ -27,5 +31,9 @@ typedef struct twh_page_opts {
  * (a channel's own failure is part of its page), 1 the transport, the core
  * or a result failed, 2 no such channel. */
 int twh_page_run(const twh_platform_t *plat, const twh_page_opts_t *o);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* TWH_PAGE_H */
