@@ -67,16 +67,19 @@ module tb_link #(
     // inputs one register per clock, with their window flags from the
     // core's twh_window, and cfg_unlock as the lab unlock.
     // (written for three clocks after a change of cfg_* or a reset, which
-    // clears them: a memory write every clock costs the simulation dearly)
+    // clears them: a memory write every clock costs the simulation dearly,
+    // and so does comparing the lengths every clock; a change is seen by
+    // t_chg, which toggles only when one of them moves)
     reg  [1:0]  t_reg = 2'd0;
     reg  [1:0]  t_left = 2'd3;
-    reg  [95:0] t_cfg_q;
+    reg         t_chg = 1'b0, t_chg_q = 1'b0;
     wire [95:0] t_cfg = {cfg_charge_us, cfg_sync_us, cfg_preamble_us,
                          cfg_execute_us, cfg_listen_us, cfg_turnaround_us};
-    always @(posedge clk) begin
+    always @(t_cfg) t_chg = !t_chg;
+    always @(posedge clk) if (rst || t_left != 2'd0 || t_chg != t_chg_q) begin
         if (t_left != 2'd0) t_reg <= (t_reg == 2'd2) ? 2'd0 : t_reg + 2'd1;
-        t_cfg_q <= t_cfg;
-        if (rst || t_cfg != t_cfg_q) t_left <= 2'd3;
+        t_chg_q <= t_chg;
+        if (rst || t_chg != t_chg_q) t_left <= 2'd3;
         else if (t_left != 2'd0)     t_left <= t_left - 2'd1;
     end
     wire        t_wr = !rst && t_left != 2'd0;
