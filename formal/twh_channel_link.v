@@ -27,6 +27,8 @@ module twh_link #(
 ) (
     input  wire             clk,
     input  wire             rst,
+    input  wire             tick,
+    input  wire             fall,
     output wire [2:0]       nx_fld,
     input  wire             dur_we,
     input  wire [15:0]      dur_in,
@@ -95,7 +97,7 @@ module twh_link #(
     assign line_oe = f_line_oe;
 
     // verilator lint_off UNUSEDSIGNAL
-    wire unused = &{1'b0, dur_we, dur_in, dur_fld_in, cfg_idle_charge, s_cmd_payload, line_i};
+    wire unused = &{1'b0, tick, fall, dur_we, dur_in, dur_fld_in, cfg_idle_charge, s_cmd_payload, line_i};
     // verilator lint_on UNUSEDSIGNAL
 endmodule
 `default_nettype wire

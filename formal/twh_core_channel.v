@@ -30,6 +30,8 @@ module twh_channel #(
     input  wire        clk,
     input  wire        rst,
     input  wire        ms_tick,
+    input  wire        tick,
+    input  wire        fall,
     input  wire        enable,
     input  wire        idle_charge,
     input  wire [31:0] wdata,
@@ -126,7 +128,7 @@ module twh_channel #(
     assign line_oe     = f_line_oe;
 
     // verilator lint_off UNUSEDSIGNAL
-    wire unused = &{1'b0, ms_tick, enable, idle_charge, wdata, wdata_ok, wr_poll_ctrl,
+    wire unused = &{1'b0, ms_tick, tick, fall, enable, idle_charge, wdata, wdata_ok, wr_poll_ctrl,
                     dur_we, dur, dur_fld, slot_payload_i, line_i};
     // verilator lint_on UNUSEDSIGNAL
 endmodule

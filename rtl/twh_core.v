@@ -70,9 +70,12 @@ module twh_core #(
     localparam [0:0]  NO_POLLING   = (POLLING == 0);
 
     // ------------------------------------------------------------ millisecond tick
-    wire us_tick, us_fall_unused;
+    // One carrier generator for the core: its tick starts every channel's
+    // carrier period and counts microseconds for the poll timers; every
+    // channel's engine steps on it, so all lines' carriers run in step.
+    wire us_tick, us_fall;
     twh_carrier #(.CLK_HZ(CLK_HZ)) u_tick (
-        .clk(clk), .rst(rst), .tick(us_tick), .fall(us_fall_unused)
+        .clk(clk), .rst(rst), .tick(us_tick), .fall(us_fall)
     );
     reg [9:0] us_count;
     reg       ms_tick;
@@ -388,7 +391,7 @@ module twh_core #(
         for (n = 0; n < CHANNELS; n = n + 1) begin : g_ch
             wire sel = q_ch[n];
             twh_channel #(.CLK_HZ(CLK_HZ), .POLLING(POLLING)) u_ch (
-                .clk(clk), .rst(rst), .ms_tick(ms_tick),
+                .clk(clk), .rst(rst), .ms_tick(ms_tick), .tick(us_tick), .fall(us_fall),
                 .enable(enable), .idle_charge(idle_charge[n]),
                 .wdata(q_wdata), .wdata_ok(q_win_p),
                 .wr_poll_ctrl(sel && q_wp),

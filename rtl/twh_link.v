@@ -35,6 +35,10 @@ module twh_link #(
 ) (
     input  wire             clk,
     input  wire             rst,
+    // the carrier's timebase, from the core's one twh_carrier (every
+    // channel's carrier and microsecond run in step)
+    input  wire             tick,           // a carrier period starts
+    input  wire             fall,           // ... its high half ends
     // phase lengths (microseconds) from twh_timing
     output wire [2:0]       nx_fld,         // 1 charge .. 6 turnaround: needed next
     input  wire             dur_we,
@@ -63,11 +67,6 @@ module twh_link #(
     output wire [2:0]       phase,
     output wire             busy
 );
-    // ------------------------------------------------------------ timebase
-    wire tick, fall;
-    twh_carrier #(.CLK_HZ(CLK_HZ)) u_carrier (
-        .clk(clk), .rst(rst), .tick(tick), .fall(fall)
-    );
 
     // ------------------------------------------------------------ receive path
     wire line_s, env;

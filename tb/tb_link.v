@@ -110,8 +110,12 @@ module tb_link #(
         .nx_fld(nx_fld), .dur_we(dur_we), .dur(dur), .dur_fld(dur_fld)
     );
 
+    // the carrier's timebase, as the core's one twh_carrier gives it
+    wire tick, fall;
+    twh_carrier #(.CLK_HZ(CLK_HZ)) u_carrier (.clk(clk), .rst(rst), .tick(tick), .fall(fall));
+
     twh_link #(.CLK_HZ(CLK_HZ), .TAG_W(8)) dut (
-        .clk(clk), .rst(rst),
+        .clk(clk), .rst(rst), .tick(tick), .fall(fall),
         .nx_fld(nx_fld), .dur_we(dur_we), .dur_in(dur), .dur_fld_in(dur_fld),
         .cfg_idle_charge(cfg_idle_charge),
         .s_cmd_valid(s_cmd_valid), .s_cmd_ready(s_cmd_ready),
