@@ -215,7 +215,7 @@ module twh_channel #(
             poll_count  <= 12'd0;
             poll_sample <= 1'b0;
             poll_error  <= 1'b0;
-        end else begin
+        end else if (e_valid || poll_sample) begin   // else both are 0 already
             poll_sample <= e_valid && e_is_poll;
             poll_error  <= e_valid && e_is_poll && link_err;
             if (e_valid && e_is_poll) begin

@@ -83,7 +83,7 @@ module twh_core #(
         if (rst) begin
             us_count <= 10'd0;
             ms_tick  <= 1'b0;
-        end else begin
+        end else if (us_tick || ms_tick) begin   // else nothing moves
             ms_tick <= 1'b0;
             if (us_tick) begin
                 if (us_count == 10'd999) begin
@@ -302,8 +302,10 @@ module twh_core #(
     always @(posedge clk) begin
         if (rst) dispatch <= 1'b0;
         else     dispatch <= !dispatch && !cmd_empty && (enable || flushing) && h_slot_free;
-        disp_ch  <= h_ch;
-        disp_blk <= h_blocked;
+        if (!cmd_empty) begin    // (only read with dispatch, which needs a head)
+            disp_ch  <= h_ch;
+            disp_blk <= h_blocked;
+        end
     end
     // a flush written in the clock a command is dispatched cancels it too:
     // it was queued when the flush came (the slot's cancel misses it)

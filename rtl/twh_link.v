@@ -129,11 +129,14 @@ module twh_link #(
     // clock already), so chk_r is current for the whole transaction.
     reg  [7:0] tx_psum;
     wire [7:0] tx_chk;
-    always @(posedge clk) tx_psum <= cmd_r + pay_r[7:0];
+    // (the three stages run from an accept to the end of the transaction:
+    // the only time the frame is sent or the command can change)
+    wire       tx_run = pending || !ph_oh[`TWH_PH_IDLE];
+    always @(posedge clk) if (tx_run) tx_psum <= cmd_r + pay_r[7:0];
     twh_checksum u_tx_chk (
         .a(tx_psum), .b(pay_r[15:8]), .c(8'd0), .chk(tx_chk)
     );
-    always @(posedge clk) chk_r <= tx_chk;
+    always @(posedge clk) if (tx_run) chk_r <= tx_chk;
     reg [7:0] tx_byte;
     always @(*) begin
         case (byten)
@@ -147,7 +150,7 @@ module twh_link #(
     // start of a character, when the line shows the start bit whatever the
     // byte is; a clock later, long before its first data bit, it is current.
     reg [7:0] tx_byte_q;
-    always @(posedge clk) tx_byte_q <= tx_byte;
+    always @(posedge clk) if (tx_run) tx_byte_q <= tx_byte;
 
     // Registered, so the caller's arbitration does not start from the
     // sequencer's state: it lags the true condition by a clock and is never
@@ -232,7 +235,9 @@ module twh_link #(
     // off the path into the result registers (ECP5's critical path)
     reg [3:0] rx_status_q;
     reg       rx_data_ok_q;
-    always @(posedge clk) begin
+    // (taken through the listen phase only: its last tick is where they
+    // are read)
+    always @(posedge clk) if (ph_oh[`TWH_PH_LISTEN]) begin
         rx_status_q  <= rx_status;
         rx_data_ok_q <= rx_data_ok;
     end
