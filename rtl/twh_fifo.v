@@ -84,7 +84,7 @@ module twh_fifo #(
             level_r   <= {LW{1'b0}};
             full_r    <= 1'b0;
             vacant_r  <= 1'b1;
-        end else if (push || pop || !mem_empty) begin    // else nothing moves
+        end else begin
             if (do_push && !do_pop)      level_r <= level_up;
             else if (do_pop && !do_push) level_r <= level_dn;
             // from the level as it stands, not through the adder: a full

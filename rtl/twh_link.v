@@ -1,4 +1,4 @@
-// One 2-wire channel: carrier, six-phase sequencer, on-off-keyed UART both
+// One 2-wire channel: six-phase sequencer, on-off-keyed UART both
 // ways. A command goes in on a valid/ready stream; exactly one result comes
 // out for it (unless reset intervenes). A command marked with a non-zero
 // s_cmd_skip (blocked or cancelled upstream) is answered at once with that
@@ -15,9 +15,10 @@
 // The command phase is not programmable: it lasts exactly its 33 or 44
 // bits; the idle after a turnaround lasts one tick.
 //
-// Everything steps on the carrier tick, so every phase is a whole number of
-// carrier periods, bursts always start with a full high half and the line
-// never shows a runt pulse. Line drive per phase:
+// Everything steps on the carrier tick (tick and fall come from the core's
+// one twh_carrier), so every phase is a whole number of carrier periods,
+// bursts always start with a full high half and the line never shows a
+// runt pulse. Line drive per phase:
 //   charge, preamble, execute  carrier
 //   sync, turnaround           driven low
 //   command                    carrier for 1 bits, driven low for 0 bits

@@ -57,34 +57,34 @@ module twh_rx (
     // the third sample completes the vote
     wire bit_val = (votes + {1'b0, env}) >= 2'd2;
 
-    // Cleared in the first clock without en (or in reset) only: it then
-    // stays clear, and an idle receiver does no work in simulation.
+    // Cleared in reset and in the first clock without en (both flip-flops,
+    // so the clear is one LUT from them): the state then stays clear, and
+    // an idle receiver does no work in simulation.
     reg  en_q;
+    wire clr = rst || (en_q && !en);
     always @(posedge clk) begin
         en_q <= !rst && en;
-        if (rst || !en) begin
-            if (rst || en_q) begin
-                nbytes    <= 2'd0;
-                bytes     <= 24'd0;
-                started   <= 1'b0;
-                frame_err <= 1'b0;
-                ended     <= 1'b0;
-                active    <= 1'b0;
-                more      <= 1'b0;
-                mark      <= 5'd0;
-                mark_full <= 1'b0;
-                sub       <= 5'd0;
-                bitn      <= 4'd0;
-                votes     <= 2'd0;
-                sh        <= 8'd0;
-                done      <= 1'b0;
-                at_vote   <= 1'b0;
-                chk_start <= 1'b0;
-                chk_data  <= 1'b0;
-                chk_stop  <= 1'b0;
-                at_end    <= 1'b0;
-            end
-        end else if (tick && !done) begin
+        if (clr) begin
+            nbytes    <= 2'd0;
+            bytes     <= 24'd0;
+            started   <= 1'b0;
+            frame_err <= 1'b0;
+            ended     <= 1'b0;
+            active    <= 1'b0;
+            more      <= 1'b0;
+            mark      <= 5'd0;
+            mark_full <= 1'b0;
+            sub       <= 5'd0;
+            bitn      <= 4'd0;
+            votes     <= 2'd0;
+            sh        <= 8'd0;
+            done      <= 1'b0;
+            at_vote   <= 1'b0;
+            chk_start <= 1'b0;
+            chk_data  <= 1'b0;
+            chk_stop  <= 1'b0;
+            at_end    <= 1'b0;
+        end else if (en && tick && !done) begin
             if (!env)                mark <= 5'd0;
             else if (!mark_full)     mark <= mark + 1'b1;
             mark_full <= env && (mark_full || mark == 5'd15);
