@@ -385,16 +385,22 @@ module twh_link #(
 `ifdef FORMAL
     // ================================================================ formal
     // The engine on its own (formal/twh_link.sby). Every input, rst and the
-    // line included, is free but for the phase lengths, which arrive as
-    // twh_timing hands them to one channel (its proof, formal/twh_timing.sby):
-    // every clock, the field named two clocks before, with a length inside
-    // that field's spec window unless the lab unlock was on (f_unl_in, free).
-    // Everything holds from the first reset on (f_ok). Durations are counted in carrier ticks; that
-    // a tick is one microsecond is twh_carrier's own proof. The checks at the
+    // line included, is free but for the carrier's tick and fall, which are
+    // those of a twh_carrier on the same clock and reset (the core's one
+    // generator, below), and the phase lengths, which arrive as twh_timing
+    // hands them to one channel (its proof, formal/twh_timing.sby): every
+    // clock, the field named two clocks before, with a length inside that
+    // field's spec window unless the lab unlock was on (f_unl_in, free).
+    // Everything holds from the first reset on (f_ok). Durations are counted
+    // in carrier ticks; that a tick is one microsecond is twh_carrier's own
+    // proof. The checks at the
     // pin and at clock level need whole carrier periods inside the induction
     // window, so they are compiled in only with TWH_F_LINK_PINS (4 MHz job).
     reg f_ok = 1'b0;
     always @(posedge clk) if (rst) f_ok <= 1'b1;
+    wire f_tick, f_fall;
+    twh_carrier #(.CLK_HZ(CLK_HZ)) f_timebase (.clk(clk), .rst(rst), .tick(f_tick), .fall(f_fall));
+    always @(*) assume(tick == f_tick && fall == f_fall);
     // the previous clock ran after a reset and was no reset itself: $past
     // and the stream rules apply
     reg f_run = 1'b0;
