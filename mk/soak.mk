@@ -104,12 +104,14 @@ $(SOAK_DIR)/%.o: sim/soak/%.cpp sim/soak/periph.h $(SOAK_PROF_H) $(SOAK_OBJ)/Vso
 $(SOAK_BIN): $(SOAK_CXXOBJ) $(SOAK_DRV) $(SOAK_VLIB)
 	g++ -o $@ $(SOAK_CXXOBJ) $(SOAK_DRV) $(SOAK_VLIB) -pthread -latomic
 
-# make demo (Makefile): the soak harness in --page mode runs the sensor-page
-# tool on the LiteX SoC's three cells (soc/cells.py: O2 v18, O2 v15, CO2),
-# so the Verilated model is the soak's and only the harness is compiled
-# again, against those cells.
+# The soak harness compiled again against the LiteX SoC's three cells
+# (soc/cells.py: O2 v18, O2 v15, CO2); the Verilated model is the soak's.
+# make demo (Makefile) runs it in --page mode: the sensor-page tool on every
+# channel. make test runs it in --session mode (cosim-session): the driver
+# session of tb/test_cosim.py, step for step, with its transcript of frames,
+# which make test-slow holds to the same session co-simulated on Icarus.
 DEMO_DIR      := build/demo
-DEMO_PAGE     := $(DEMO_DIR)/demo_page
+CELLS_SOAK    := $(DEMO_DIR)/soak_cells
 DEMO_PROF_H   := $(DEMO_DIR)/gen/soak_profiles.h
 DEMO_CXXOBJ   := $(DEMO_DIR)/soak_main.o $(DEMO_DIR)/periph.o
 
@@ -122,5 +124,10 @@ $(DEMO_DIR)/%.o: sim/soak/%.cpp sim/soak/periph.h $(DEMO_PROF_H) $(SOAK_OBJ)/Vso
                  sw/include/twh.h sw/include/twh_regs.h sw/tools/twh_page.h mk/soak.mk
 	nice g++ -I$(DEMO_DIR)/gen $(SOAK_CXXFLAGS) -c $< -o $@
 
-$(DEMO_PAGE): $(DEMO_CXXOBJ) $(SOAK_DRV) $(SOAK_VLIB)
+$(CELLS_SOAK): $(DEMO_CXXOBJ) $(SOAK_DRV) $(SOAK_VLIB)
 	g++ -o $@ $(DEMO_CXXOBJ) $(SOAK_DRV) $(SOAK_VLIB) -pthread -latomic
+
+.PHONY: cosim-session
+TEST_EXTRA += cosim-session
+cosim-session: $(CELLS_SOAK)
+	nice $(CELLS_SOAK) --session --transcript $(DEMO_DIR)/session_verilator.txt

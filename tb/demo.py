@@ -2,7 +2,7 @@
 
 - The sensor pages: the C driver's page tool (sw/tools/twh_page.c, what
   twh_cli and the LiteX SoC run) on the Verilated Wishbone core, three cells
-  on the lines (build/demo/demo_page: the soak harness in --page mode, with
+  on the lines (build/demo/soak_cells: the soak harness in --page mode, with
   the SoC's cells). soc/check_page.py holds every page to the shared vectors
   and the interrupt waits to the interrupt; the harness holds every phase on
   the lines to the spec's table.
@@ -28,11 +28,11 @@ out_dir = ROOT / "build" / "demo"
 out_dir.mkdir(parents=True, exist_ok=True)
 vcd = out_dir / "demo.vcd"
 page_txt = out_dir / "page.txt"
-subprocess.run(["make", "-s", "-C", str(ROOT), "build/demo/demo_page"], check=True)
+subprocess.run(["make", "-s", "-C", str(ROOT), "build/demo/soak_cells"], check=True)
 subprocess.run(["make", "-s", "-C", str(ROOT / "sw"), "shared"], check=True)
 
 with open(page_txt, "w") as f:
-    page = subprocess.Popen([str(out_dir / "demo_page"), "--page"], stdout=f,
+    page = subprocess.Popen([str(out_dir / "soak_cells"), "--page"], stdout=f,
                             stderr=subprocess.STDOUT, cwd=ROOT)
 wave_err = None
 print("== the waveform session (Icarus, cocotb spec monitors): build/demo/demo.vcd", flush=True)

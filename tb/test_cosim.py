@@ -1,9 +1,16 @@
 """Co-simulation: the C driver (sw/, built as libtwh.so) drives the Wishbone
 core with three modelled cells, through ctypes and cocotb's bridge/resume
-(tb/cosim.py). Every transaction is watched by the spec monitors."""
+(tb/cosim.py). Every transaction is watched by the spec monitors.
+
+driver_session is also run, step for step, on the Verilated core by the
+soak harness (`make cosim-session`, part of make test: a second, not a
+minute); here, in make test-slow, both runs must leave the same transcript
+of frames handled by the same cells (soc/cells.py)."""
 import ctypes as C
 import dataclasses
 import subprocess
+import sys
+from pathlib import Path
 
 import cocotb
 import pytest
@@ -14,6 +21,25 @@ import simrun
 import twh_ctypes as T
 from coretb import CoreTB
 from cosim import Cosim
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "soc"))
+import cells  # noqa: E402
+
+# the cells of the session: the demo's and the LiteX SoC's (O2 v18, O2 v15,
+# CO2, with the shared vectors' flash images), as the Verilated run has them
+SESSION_CELLS = tuple(name for name, _, _ in cells.cells())
+TRANSCRIPT = "session_icarus.txt"
+
+
+def transcript_lines(models, marks):
+    """One line per frame a cell handled, before marks[ch]; the format of
+    the soak harness's --transcript (sim/soak/soak_main.cpp)."""
+    out = []
+    for ch, (model, mark) in enumerate(zip(models, marks)):
+        for rec in model.logic.log[:mark]:
+            answer = "none" if rec.response is None else f"{rec.response[0]:02X} {rec.response[1]:02X}"
+            out.append(f"ch{ch} " + " ".join(f"{b:02X}" for b in rec.frame) + f" -> {answer}")
+    return out
 
 E = T.ERR
 
@@ -30,7 +56,9 @@ async def start(dut, cells):
 async def driver_session(dut):
     """Negotiation per firmware, every read helper, write with verify, and
     the driver's own refusal to touch the factory area."""
-    tb, cs = await start(dut, ("o2_v18", "o2_v15", "co2"))
+    for name, prof, _ in cells.cells():
+        profiles.PROFILES[name] = prof
+    tb, cs = await start(dut, SESSION_CELLS)
     expect_exec = {0: 6000, 1: 4000, 2: 6000}          # v18, v15, CO2 fw 0x12
     for ch in range(3):
         prof = tb.profiles[ch]
@@ -60,6 +88,9 @@ async def driver_session(dut):
     img = (C.c_uint16 * 4)()
     assert await cs.call("twh_read_image", C.byref(cs.t), 1, img, 4) == 0
     assert list(img) == list(tb.profiles[1].flash[:4])
+    # which frames a cancel catches depends on the bus's timing: the
+    # transcript ends here
+    marks = [len(m.logic.log) for m in tb.models]
     # non-blocking: queue three, cancel what has not started, collect all
     tags = [await cs.call("twh_submit", C.byref(cs.t), 2, 0x41, 0xAA) for _ in range(3)]
     assert all(tag >= 0 for tag in tags), tags
@@ -76,6 +107,7 @@ async def driver_session(dut):
     assert len(cancelled) >= 2 and all(got[tag] in (0, 8) for tag in tags), got
     assert cs.irq_waits > 0, "the driver never waited on the interrupt"
     await tb.finish()
+    Path(TRANSCRIPT).write_text("\n".join(transcript_lines(tb.models, marks)) + "\n")
 
 
 @cocotb.test()
@@ -121,14 +153,23 @@ def libtwh():
     return T.LIB_PATH
 
 
-# driver_session (about 110 s) runs in make test; driver_errors,
-# every error path through the driver (about 160 s), carries the marker
-# slow: make test-slow runs it, in CI.
-@pytest.mark.parametrize("testcase", [pytest.param("driver_session", marks=pytest.mark.budget(360)),
-                                      pytest.param("driver_errors", marks=pytest.mark.slow)])
+# Both carry the marker slow (make test-slow, in CI): driver_session (about
+# 110 s on Icarus; make test runs it on the Verilated core) and
+# driver_errors, every error path through the driver (about 160 s).
+@pytest.mark.slow
+@pytest.mark.parametrize("testcase", ["driver_session", "driver_errors"])
 def test_cosim(libtwh, testcase):
     simrun.run("tb_core", "test_cosim", f"cosim_{testcase}",
                parameters={"CLK_HZ": 4_000_000, "CHANNELS": 3, "FIFO_DEPTH": 16, "BUS": 0},
                testcase=testcase, tb_sources=["tb_core.v"],
                extra_env={"TWH_CLK_HZ": "4000000", "TWH_CHANNELS": "3",
                           "TWH_FIFO_DEPTH": "16", "TWH_BUS": "0"})
+    if testcase == "driver_session":
+        # the same session on the Verilated core, the same cells: the same
+        # frames, in the same order, with the same answers
+        subprocess.run(["make", "-s", "-C", str(simrun.ROOT), "cosim-session"], check=True,
+                       stdout=subprocess.DEVNULL)
+        icarus = (simrun.ROOT / "build" / "sim" / "cosim_driver_session" / TRANSCRIPT).read_text()
+        verilator = (simrun.ROOT / "build" / "demo" / "session_verilator.txt").read_text()
+        assert icarus.splitlines() and icarus == verilator, \
+            f"transcripts differ:\n--- Icarus\n{icarus}--- Verilator\n{verilator}"

@@ -39,6 +39,7 @@ public:
     explicit Device(const SoakProfile &pr);
     DeviceAnswer handle(const uint8_t *frame, int n);
     const SoakProfile &profile() const { return pr_; }
+    const std::vector<uint16_t> &flash() const { return flash_; }
 
 private:
     const SoakProfile &pr_;

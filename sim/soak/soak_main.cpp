@@ -10,6 +10,7 @@
 // core answers, the wait/interrupt hook steps it until irq rises. Everything
 // is derived from one seed, so a run replays exactly; wall-clock time is only
 // measured for the rates printed at the end.
+#include <algorithm>
 #include <chrono>
 #include <cinttypes>
 #include <cmath>
@@ -76,6 +77,8 @@ struct Options {
     std::string trace_logic;      // file: every frame and the device's answer
     std::string rate_file;        // file: the rate lines, for make soak's comparison
     bool page = false;            // make demo: the sensor-page tool instead of traffic
+    bool session = false;         // make test: the co-simulated driver session
+    std::string transcript;       // --session: every frame the cells handled, to this file
 };
 
 void usage() {
@@ -83,7 +86,8 @@ void usage() {
                  "usage: soak [--transactions N] [--seed S] [--fault-rate F] [--depth D]\n"
                  "            [--blocking-rate B] [--progress N] [--trace-logic FILE]\n"
                  "            [--rate-file FILE]\n"
-                 "       soak --page   (make demo: every channel's sensor page, no faults)\n");
+                 "       soak --page   (make demo: every channel's sensor page, no faults)\n"
+                 "       soak --session [--transcript FILE]   (make test: the driver session)\n");
     std::exit(2);
 }
 
@@ -105,10 +109,12 @@ Options parse(int argc, char **argv) {
         else if (a == "--trace-logic") o.trace_logic = val();
         else if (a == "--rate-file") o.rate_file = val();
         else if (a == "--page") o.page = true;
+        else if (a == "--session") o.session = true;
+        else if (a == "--transcript") o.transcript = val();
         else if (a.rfind("+verilator", 0) == 0) continue;
         else usage();
     }
-    if (o.page)
+    if (o.page || o.session)
         o.fault_rate = 0;         // healthy cells: a page shows no injected fault
     if (o.transactions == 0 || o.depth < 1 || o.depth > 4 || o.fault_rate < 0 ||
         o.fault_rate > 1 || o.blocking_rate < 0 || o.blocking_rate > 1)
@@ -196,6 +202,7 @@ public:
     explicit Soak(const Options &o);
     int run();
     int run_page();
+    int run_session();
 
 private:
     // simulation
@@ -221,6 +228,7 @@ private:
     static uint64_t h_now_us(void *ctx) { return static_cast<Soak *>(ctx)->cyc_ / CYC_PER_US; }
 
     // traffic
+    void reset_init();
     void setup();
     void pick(int ch, uint8_t &cmd, uint16_t &payload);
     void submit_one(int ch);
@@ -381,7 +389,7 @@ void Soak::mismatch(const std::string &s) {
 }
 
 // ------------------------------------------------------------ traffic
-void Soak::setup() {
+void Soak::reset_init() {
     Vsoak_top &d = *top_;
     d.rst = 1;
     d.wb_sel_i = 0xF;
@@ -394,6 +402,10 @@ void Soak::setup() {
                      t_.clk_khz);
         std::exit(1);
     }
+}
+
+void Soak::setup() {
+    reset_init();
     for (int ch = 0; ch < NCH; ++ch) {
         const uint32_t t0 = CHARGE_US | static_cast<uint32_t>(SYNC_US) << 16;
         const uint32_t t1 = PREAMBLE_US | static_cast<uint32_t>(EXECUTE_US) << 16;
@@ -1026,15 +1038,160 @@ int Soak::run_page() {
     return 0;
 }
 
+// make test: tb/test_cosim.py's driver_session, step for step, on the
+// Verilated core: negotiation per firmware, every read helper, write with
+// verify, the driver's refusal to touch the factory area, a whole-image read,
+// and submit / cancel / collect. The cells are the demo's (soc/cells.py);
+// --transcript writes every frame they handled before the non-blocking part
+// (which frames a cancel catches depends on bus timing), one line each, for
+// the test that holds this run and the Icarus co-simulation to the same
+// transcript (test_cosim.py::test_cosim[driver_session], make test-slow).
+int Soak::run_session() {
+    // the execute phase twh_negotiate picks: v18 6 ms, v15 4 ms, CO2 fw 0x12 6 ms
+    static const char *const cell_of[3] = {"o2_v18+", "o2_v15+", "co2+"};
+    static const uint16_t expect_exec[3] = {6000, 4000, 6000};
+    static_assert(NCH == 3, "the session's expectations name three cells");
+    auto need = [&](bool ok, const std::string &what) {
+        if (!ok)
+            mismatch("session: " + what);
+        return ok;
+    };
+    auto prof = [&](int ch) -> const SoakProfile & {
+        return periph_[static_cast<size_t>(ch)]->device().profile();
+    };
+    for (int ch = 0; ch < NCH; ++ch)
+        if (std::strncmp(prof(ch).name, cell_of[ch], std::strlen(cell_of[ch])) != 0) {
+            std::fprintf(stderr, "session: channel %d holds %s, not the %s cell\n", ch,
+                         prof(ch).name, cell_of[ch]);
+            return 1;
+        }
+    const auto w0 = std::chrono::steady_clock::now();
+    reset_init();
+    t_.timeout_us = 200000;
+    for (int ch = 0; ch < NCH; ++ch) {
+        const std::string c = "ch" + std::to_string(ch) + ": ";
+        const auto c8 = static_cast<uint8_t>(ch);
+        twh_fw_t fw{};
+        int rc = twh_negotiate(&t_, c8, &fw);
+        need(rc == TWH_OK && fw.raw == prof(ch).fw_byte && fw.type == prof(ch).type_byte,
+             c + "twh_negotiate " + std::to_string(rc));
+        const uint32_t t1 = access(ch_off(ch, offsetof(twh_regs__channel_t__stride20_t, TIMING1)), false, 0);
+        need((t1 >> TWH_REGS__CHANNEL_T__TIMING1__EXECUTE_US_bp) == expect_exec[ch],
+             c + "TIMING1.EXECUTE_US " + std::to_string(t1 >> 16));
+        uint8_t bits = 0;
+        uint16_t words = 0;
+        rc = twh_config(&t_, c8, &bits, &words);
+        need(rc == TWH_OK && words == prof(ch).size, c + "twh_config " + std::to_string(rc) +
+                                                         ", " + std::to_string(words) + " words");
+    }
+    uint16_t v = 0;
+    need(twh_o2_voltage(&t_, 0, &v) == TWH_OK && v == prof(0).adc_o2, "twh_o2_voltage");
+    need(twh_temperature(&t_, 1, &v) == TWH_OK && v == prof(1).adc_temperature, "twh_temperature");
+    need(twh_ref_voltage(&t_, 2, &v) == TWH_OK && v == prof(2).adc_ref_voltage, "twh_ref_voltage");
+    need(twh_read_word(&t_, 0, 0x10, &v) == TWH_OK && v == prof(0).flash[0x10], "twh_read_word");
+    // write with verify on a blank word of the v18 cell, then again on it
+    const std::vector<uint16_t> &fl = periph_[0]->device().flash();
+    uint16_t free_w = 0x20;
+    while (free_w < 0xE0 && fl[free_w] != soak::BLANK)
+        ++free_w;
+    if (need(free_w < 0xE0, "no blank word in the v18 cell's 0x20-0xDF")) {
+        need(twh_write_word(&t_, 0, free_w, 0x0ACE) == TWH_OK && fl[free_w] == 0x0ACE,
+             "twh_write_word on a blank word");
+        need(twh_write_word(&t_, 0, free_w, 0x0123) == TWH_ERR_VERIFY,
+             "a second write to a programmed word passed its verify");
+    }
+    // the factory area is refused before anything reaches the bus
+    const uint64_t acc0 = accesses_;
+    const size_t log0 = periph_[0]->log.size();
+    need(twh_write_word(&t_, 0, 0x05, 0x0001) == TWH_ERR_BAD_ARG, "factory write not refused");
+    need(twh_erase_page(&t_, 0, 0x10) == TWH_ERR_BAD_ARG, "factory erase not refused");
+    need(accesses_ == acc0 && periph_[0]->log.size() == log0,
+         "a refused factory write reached the bus or the line");
+    uint16_t img[4] = {};
+    need(twh_read_image(&t_, 1, img, 4) == TWH_OK &&
+         std::equal(img, img + 4, prof(1).flash), "twh_read_image");
+    size_t mark[NCH];
+    for (int ch = 0; ch < NCH; ++ch)
+        mark[ch] = periph_[static_cast<size_t>(ch)]->log.size();
+    // non-blocking: queue three, cancel what has not started, collect all
+    int tags[3];
+    for (int &tg : tags)
+        need((tg = twh_submit(&t_, 2, 0x41, 0xAA)) >= 0, "twh_submit");
+    need(twh_cancel_all(&t_) == TWH_OK, "twh_cancel_all");
+    int got = 0, cancelled = 0;
+    for (uint64_t waited_ms = 0; got < 3 && waited_ms < 200;) {
+        twh_result_t r{};
+        const int rc = twh_result(&t_, &r);
+        if (rc == TWH_ERR_AGAIN) {
+            run_cycles(1000 * CYC_PER_US);
+            ++waited_ms;
+            continue;
+        }
+        ++got;
+        need(rc == TWH_OK && r.channel == 2 && r.cmd == 0x41 &&
+             (r.status == TWH_ST_OK || r.status == TWH_ST_CANCELLED) &&
+             std::count(tags, tags + 3, static_cast<int>(r.tag)) == 1,
+             "twh_result " + std::to_string(rc) + ", status " + std::to_string(r.status));
+        cancelled += r.status == TWH_ST_CANCELLED;
+    }
+    need(got == 3 && cancelled >= 2, "of three queued commands " + std::to_string(got) +
+                                         " came back, " + std::to_string(cancelled) + " cancelled");
+    need(irq_waits_ > 0, "the driver never waited on the interrupt");
+    run_cycles(3000 * CYC_PER_US);    // close the last listen window
+    uint64_t txns = 0;
+    for (int ch = 0; ch < NCH; ++ch) {
+        const soak::Periph &pe = *periph_[static_cast<size_t>(ch)];
+        txns += pe.log.size();
+        for (const PeriphTxn &x : pe.log)
+            need(x.error.empty(), "ch" + std::to_string(ch) + ": the cell could not read a command: " + x.error);
+        need(pe.collisions == 0, "ch" + std::to_string(ch) + ": the host drove the line during an answer");
+    }
+    const bool spec_ok = spec_check();
+    if (!opt_.transcript.empty()) {
+        FILE *f = std::fopen(opt_.transcript.c_str(), "w");
+        if (!f) {
+            std::perror(opt_.transcript.c_str());
+            return 1;
+        }
+        for (int ch = 0; ch < NCH; ++ch)
+            for (size_t i = 0; i < mark[ch]; ++i) {
+                const PeriphTxn &x = periph_[static_cast<size_t>(ch)]->log[i];
+                std::fprintf(f, "ch%d", ch);
+                for (int b = 0; b < x.flen; ++b)
+                    std::fprintf(f, " %02X", x.frame[b]);
+                if (x.answers)
+                    std::fprintf(f, " -> %02X %02X\n", x.dev_msb, x.dev_lsb);
+                else
+                    std::fprintf(f, " -> none\n");
+            }
+        std::fclose(f);
+    }
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
+    top_->final();
+    std::printf("session: %" PRIu64 " transactions on %d lines, %" PRIu64 " bus accesses, %" PRIu64
+                " interrupt waits, %" PRIu64 " ms simulated, %.1f s wall\n",
+                txns, NCH, accesses_, irq_waits_, cyc_ / CYC_PER_US / 1000, wall);
+    if (mismatches_) {
+        std::printf("FAIL: %" PRIu64 " mismatches%s\n", mismatches_,
+                    spec_ok ? "" : " (spec-timing breaches among them)");
+        for (const std::string &m : messages_)
+            std::printf("  %s\n", m.c_str());
+        return 1;
+    }
+    std::printf("PASS: the driver session on the Verilated core, every transaction inside the "
+                "spec's timing table\n");
+    return 0;
+}
+
 }  // namespace
 
 int main(int argc, char **argv) {
     Options o = parse(argc, argv);
-    if (!o.seed_given && o.page)
-        o.seed = 1;               // the demo replays the same answers every time
+    if (!o.seed_given && (o.page || o.session))
+        o.seed = 1;               // the demo and the session replay the same answers
     else if (!o.seed_given)
         o.seed = (static_cast<uint64_t>(std::random_device{}()) << 32 | std::random_device{}()) & 0xFFFFFFFFFFFFull;
     Verilated::commandArgs(argc, argv);
     Soak s(o);
-    return o.page ? s.run_page() : s.run();
+    return o.session ? s.run_session() : o.page ? s.run_page() : s.run();
 }
