@@ -11,8 +11,11 @@ LINT_CLOCKS := 4000000 10500000 12000000 27000000 48000000 100000000 200000000
 
 # Each flow beside the core (synthesis, formal, fuzzing, soak, board tops) has
 # its own makefile in mk/. One adds what make test must also run to TEST_EXTRA
-# and what make bench must also print to BENCH_EXTRA.
+# (run two at a time with the static checks), or to TEST_LATE when it reuses
+# what a TEST_EXTRA target builds (run after them, one at a time), and what
+# make bench must also print to BENCH_EXTRA.
 TEST_EXTRA  :=
+TEST_LATE   :=
 BENCH_EXTRA :=
 include $(sort $(wildcard mk/*.mk))
 
@@ -78,14 +81,15 @@ test-slow: deps
 swtest: deps
 	$(MAKE) -C sw test size
 
-# make test: the static checks and short runs two at a time, then the cocotb
-# suite on both cores; scripts/stages.py ends with each stage's wall time
+# make test: the static checks and short runs two at a time, then TEST_LATE,
+# then the cocotb suite on both cores; scripts/stages.py ends with each
+# stage's wall time
 empty :=
 space := $(empty) $(empty)
 TEST_STATIC = check-regs check-wavedrom lint fusesoc swtest $(TEST_EXTRA)
 test: deps
 	@MAKE="$(MAKE)" python3 scripts/stages.py --jobs $(JOBS) --title "make test" \
-	    $(subst $(space),+,$(strip $(TEST_STATIC))) pytest
+	    $(subst $(space),+,$(strip $(TEST_STATIC))) $(TEST_LATE) pytest
 
 # Files generated from rdl/twh_regs.rdl (scripts/gen_regs.sh): committed, and
 # check-regs (part of test) fails when they are stale or the header does not

@@ -127,7 +127,11 @@ $(DEMO_DIR)/%.o: sim/soak/%.cpp sim/soak/periph.h $(DEMO_PROF_H) $(SOAK_OBJ)/Vso
 $(CELLS_SOAK): $(DEMO_CXXOBJ) $(SOAK_DRV) $(SOAK_VLIB)
 	g++ -o $@ $(DEMO_CXXOBJ) $(SOAK_DRV) $(SOAK_VLIB) -pthread -latomic
 
+# make test runs cosim-session in the group after the static checks (TEST_LATE):
+# soak-smoke, among them, builds this binary too, so that two makes never
+# build the Verilated model and the driver objects both binaries share at once.
+soak-smoke: $(CELLS_SOAK)
 .PHONY: cosim-session
-TEST_EXTRA += cosim-session
+TEST_LATE += cosim-session
 cosim-session: $(CELLS_SOAK)
 	nice $(CELLS_SOAK) --session --transcript $(DEMO_DIR)/session_verilator.txt
