@@ -9,6 +9,9 @@
 #   make soak-icarus [SOAK_ICARUS_TRANSACTIONS=12]
 #                              the same traffic through the cocotb
 #                              co-simulation on Icarus, for the rate figures
+#   make cosim-session         the driver session of tb/test_cosim.py on the
+#                              Verilated core, the SoC's cells (part of make
+#                              test; see build/demo/session_verilator.txt)
 #
 # An empty SOAK_SEED draws a fresh seed; the run prints it for a replay.
 SOAK_TRANSACTIONS ?= 10000

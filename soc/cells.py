@@ -39,11 +39,17 @@ def cells():
     return out
 
 
-def main(out_h):
-    import gen_profiles
+def register():
+    """Adds the cells to profiles.PROFILES under their names (the cocotb
+    benches take cells by name); returns the names, channel by channel."""
     table = {name: pr for name, pr, _ in cells()}
     profiles.PROFILES.update(table)
-    gen_profiles.main(out_h, list(table))
+    return list(table)
+
+
+def main(out_h):
+    import gen_profiles
+    gen_profiles.main(out_h, register())
 
 
 if __name__ == "__main__":

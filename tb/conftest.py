@@ -29,8 +29,11 @@ SLOW_BUDGET_S = 900
 HANG_FACTOR = 2
 
 # Scheduled first, longest first, so that pytest-xdist does not start a long
-# run on one core while the other has nothing left to do.
-LONG_MODULES = ("test_cosim.py", "test_random.py", "test_twh_core.py", "test_twh_link.py",
+# run on one core while the other has nothing left to do. The engine's
+# benches come second: while one core runs the long random test, the other
+# makes their Verilator build (tb/simrun.py) and starts on them, so no core
+# waits for the build.
+LONG_MODULES = ("test_random.py", "test_twh_link.py", "test_twh_core.py", "test_cosim.py",
                 "test_board_top.py")
 
 

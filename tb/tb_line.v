@@ -12,7 +12,9 @@
 //   peripheral model (tb/periph_model.py), with `carrier`: high from a rising
 //   edge until QUIET_PS pass without one, so the model wakes twice a burst.
 // Each line is flushed, so a read sees everything up to the current time
-// step. "" logs nothing (the Verilated soak uses this line too).
+// step. "" logs nothing. Under Verilator the logs exist only with
+// TWH_LINE_LOG defined (the cocotb benches, tb/simrun.py, with --timing):
+// the Verilated soak and SoC use this line without them.
 `default_nettype none
 module tb_line #(
     // used only outside Verilator (the logs and the carrier flag serve cocotb)
@@ -33,7 +35,18 @@ module tb_line #(
     assign line = stuck_en ? stuck_val
                 : ((host_oe ? host_o : (periph_oe ? periph_o : 1'b0)) | glitch);
 
-`ifndef VERILATOR
+`ifdef VERILATOR
+`ifdef TWH_LINE_LOG
+`define TWH_LINE_LOGS
+`endif
+`else
+`define TWH_LINE_LOGS
+`endif
+`ifdef TWH_LINE_LOGS
+    // the conversions round to the nearest picosecond, as meant; the wait's
+    // length is worked out at run time
+    /* verilator lint_off REALCVT */
+    /* verilator lint_off ZERODLY */
     localparam [63:0] QUIET_PS = 64'd2_000_000;
     integer    pin_fd  = 0;
     integer    line_fd = 0;
@@ -65,6 +78,8 @@ module tb_line #(
         end
         carrier = 1'b0;
     end
+    /* verilator lint_on ZERODLY */
+    /* verilator lint_on REALCVT */
 `endif
 endmodule
 `default_nettype wire

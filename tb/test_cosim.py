@@ -54,10 +54,11 @@ async def start(dut, cells):
 
 @cocotb.test()
 async def driver_session(dut):
-    """Negotiation per firmware, every read helper, write with verify, and
-    the driver's own refusal to touch the factory area."""
-    for name, prof, _ in cells.cells():
-        profiles.PROFILES[name] = prof
+    """Negotiation per firmware, every read helper, write with verify, the
+    driver's own refusal to touch the factory area, an image read, and
+    submit / cancel / collect; then the transcript of frames for the
+    comparison with the Verilated run."""
+    cells.register()                # in the simulator: the bench takes cells by name
     tb, cs = await start(dut, SESSION_CELLS)
     expect_exec = {0: 6000, 1: 4000, 2: 6000}          # v18, v15, CO2 fw 0x12
     for ch in range(3):

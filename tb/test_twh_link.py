@@ -547,33 +547,75 @@ async def clock_conformance(dut):
 
 
 # ---------------------------------------------------------------- pytest
+import zlib  # noqa: E402
+
 import simrun  # noqa: E402
 
 LINK_SOURCES = ["tb_link.v"]
-# Four of the five sensor profiles' command runs (80-100 s of CPU each)
-# carry the marker slow: make test keeps the v18 O2 cell, make test-slow (in
-# CI) runs the v15 and v26 O2 cells, the CO2 sensor and the CO2 stick.
+# make test runs the engine's benches on Verilator (tb/simrun.py: one build
+# for all of them at 4 MHz, each test three to five times faster than on
+# Icarus); make test-slow runs each on Icarus too, with the same seed, and
+# requires the same transcript from both (every result, every frame the cell
+# handled, every transaction the spec monitor measured, to the nanosecond).
+# Four of the five sensor profiles' command runs carry the marker slow on
+# both simulators: make test keeps the v18 O2 cell.
 _SLOW = pytest.mark.slow
-LINK_TESTS = [
-    pytest.param("commands_o2_v15", marks=_SLOW), "commands_o2_v18",
-    pytest.param("commands_o2_v26", marks=_SLOW), pytest.param("commands_co2", marks=_SLOW),
-    pytest.param("commands_co2_stick", marks=_SLOW), "fault_statuses", "response_tolerance", "late_response",
-    "glitches_during_listen", "dropouts_during_listen", "stuck_line", "timing_clamped", "timing_lab_unlock",
-    "power_rules", "back_to_back", "result_backpressure", "idle_charge", "reset_mid_transaction",
-    "frames_from_vectors", "log_and_edge_modes_agree",
+LINK_NAMES = [
+    "commands_o2_v15", "commands_o2_v18", "commands_o2_v26", "commands_co2",
+    "commands_co2_stick", "fault_statuses", "response_tolerance", "late_response",
+    "glitches_during_listen", "dropouts_during_listen", "stuck_line", "timing_clamped",
+    "timing_lab_unlock", "power_rules", "back_to_back", "result_backpressure", "idle_charge",
+    "reset_mid_transaction", "frames_from_vectors", "log_and_edge_modes_agree",
 ]
+SLOW_LINK = {"commands_o2_v15", "commands_o2_v26", "commands_co2", "commands_co2_stick"}
+LINK_TESTS = [pytest.param(n, marks=_SLOW) if n in SLOW_LINK else n for n in LINK_NAMES]
+# The clock matrix: at 100 MHz, where Icarus is slowest (a carrier period
+# of 100 clocks), it runs on Verilator in make test and on both in make
+# test-slow; 4-48 MHz run on Icarus, where the test costs no more than a
+# Verilator build (20-40 s a configuration).
+VERILATOR_CLOCKS = [100_000_000]
+ICARUS_CLOCKS = [4_000_000, 10_500_000, 12_000_000, 27_000_000, 48_000_000]
+
+
+def seed_of(name):
+    """The seed both simulators share (COCOTB_RANDOM_SEED, when set, wins)."""
+    return os.environ.get("COCOTB_RANDOM_SEED") or str(zlib.crc32(name.encode()))
+
+
+def _run(testcase, clk_hz, sim, name):
+    simrun.run("tb_link", "test_twh_link", name, parameters={"CLK_HZ": clk_hz},
+               testcase=testcase, tb_sources=LINK_SOURCES, sim=sim, seed=seed_of(name),
+               extra_env={"TWH_CLK_HZ": str(clk_hz)})
+    return (simrun.ROOT / "build" / "sim" / name / "transcript.txt").read_text()
+
+
+def _same_on_both(testcase, clk_hz, tag):
+    """The test on Icarus and on Verilator, the same seed: the same transcript."""
+    icarus = _run(testcase, clk_hz, "icarus", f"{tag}_icarus")
+    verilator = _run(testcase, clk_hz, "verilator", f"{tag}_verilator")
+    assert icarus.strip() and icarus == verilator, \
+        f"{testcase} at {clk_hz} Hz: the transcripts differ (build/sim/{tag}_icarus/" \
+        f"transcript.txt, build/sim/{tag}_verilator/transcript.txt)"
 
 
 @pytest.mark.parametrize("testcase", LINK_TESTS)
 def test_link(testcase):
-    simrun.run("tb_link", "test_twh_link", f"link_{testcase}",
-               parameters={"CLK_HZ": 4_000_000}, testcase=testcase,
-               tb_sources=LINK_SOURCES)
+    _run(testcase, 4_000_000, "verilator", f"link_{testcase}")
 
 
-@pytest.mark.parametrize("clk_hz", [4_000_000, 10_500_000, 12_000_000, 27_000_000,
-                                    48_000_000, 100_000_000])
+@pytest.mark.slow
+@pytest.mark.parametrize("testcase", LINK_NAMES)
+def test_link_icarus(testcase):
+    _same_on_both(testcase, 4_000_000, f"link_{testcase}")
+
+
+@pytest.mark.parametrize("clk_hz", ICARUS_CLOCKS + VERILATOR_CLOCKS)
 def test_link_clock(clk_hz):
-    simrun.run("tb_link", "test_twh_link", f"link_clock_{clk_hz}",
-               parameters={"CLK_HZ": clk_hz}, testcase="clock_conformance",
-               tb_sources=LINK_SOURCES, extra_env={"TWH_CLK_HZ": str(clk_hz)})
+    _run("clock_conformance", clk_hz, "verilator" if clk_hz in VERILATOR_CLOCKS else "icarus",
+         f"link_clock_{clk_hz}")
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("clk_hz", VERILATOR_CLOCKS)
+def test_link_clock_icarus(clk_hz):
+    _same_on_both("clock_conformance", clk_hz, f"link_clock_{clk_hz}")
