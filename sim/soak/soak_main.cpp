@@ -254,6 +254,8 @@ private:
     }
     void report(double wall_s, double cpu_s);
     bool spec_check();
+    uint64_t check_lines();
+    int fail_report(const std::string &head, bool spec_ok);
     void write_trace();
 
     Options opt_;
@@ -979,6 +981,30 @@ int Soak::run() {
     return 0;
 }
 
+// The page and session modes, no faults injected: every command read by its
+// cell, no collision on any line. Returns the transactions on all lines.
+uint64_t Soak::check_lines() {
+    uint64_t txns = 0;
+    for (int ch = 0; ch < NCH; ++ch) {
+        const soak::Periph &pe = *periph_[static_cast<size_t>(ch)];
+        txns += pe.log.size();
+        for (const PeriphTxn &x : pe.log)
+            if (!x.error.empty())
+                mismatch("ch" + std::to_string(ch) + ": the cell could not read a command: " + x.error);
+        if (pe.collisions)
+            mismatch("ch" + std::to_string(ch) + ": the host drove the line during an answer");
+    }
+    return txns;
+}
+
+int Soak::fail_report(const std::string &head, bool spec_ok) {
+    std::printf("FAIL: %s%" PRIu64 " mismatches%s\n", head.c_str(), mismatches_,
+                spec_ok ? "" : " (spec-timing breaches among them)");
+    for (const std::string &m : messages_)
+        std::printf("  %s\n", m.c_str());
+    return 1;
+}
+
 // make demo: the sensor-page tool (sw/tools/twh_page.c, what twh_cli and the
 // LiteX SoC run) over this harness's bus, three healthy cells on the lines.
 // The pages and the interrupt waits are checked by soc/check_page.py against
@@ -1011,28 +1037,14 @@ int Soak::run_page() {
     std::printf("demo: wait_irq calls %" PRIu64 ", woken by the interrupt %" PRIu64
                 " (pending on entry %" PRIu64 "), timed out %" PRIu64 "\n",
                 irq_waits_, irq_woke_, irq_pending_, irq_timed_out_);
-    uint64_t txns = 0;
-    for (int ch = 0; ch < NCH; ++ch) {
-        const soak::Periph &pe = *periph_[static_cast<size_t>(ch)];
-        txns += pe.log.size();
-        for (const PeriphTxn &x : pe.log)
-            if (!x.error.empty())
-                mismatch("ch" + std::to_string(ch) + ": the cell could not read a command: " + x.error);
-        if (pe.collisions)
-            mismatch("ch" + std::to_string(ch) + ": the host drove the line during an answer");
-    }
+    const uint64_t txns = check_lines();
     const bool spec_ok = spec_check();
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
     top_->final();
     std::printf("demo: %" PRIu64 " transactions on %d lines, %" PRIu64 " bus accesses, %.1f s wall\n",
                 txns, NCH, accesses_, wall);
-    if (mismatches_ || rc != 0) {
-        std::printf("FAIL: twh_page_run %d, %" PRIu64 " mismatches%s\n", rc, mismatches_,
-                    spec_ok ? "" : " (spec-timing breaches among them)");
-        for (const std::string &m : messages_)
-            std::printf("  %s\n", m.c_str());
-        return 1;
-    }
+    if (mismatches_ || rc != 0)
+        return fail_report("twh_page_run " + std::to_string(rc) + ", ", spec_ok);
     std::printf("demo: every transaction inside the spec's timing table, no bus error, "
                 "no collision\n");
     return 0;
@@ -1138,14 +1150,7 @@ int Soak::run_session() {
                                          " came back, " + std::to_string(cancelled) + " cancelled");
     need(irq_waits_ > 0, "the driver never waited on the interrupt");
     run_cycles(3000 * CYC_PER_US);    // close the last listen window
-    uint64_t txns = 0;
-    for (int ch = 0; ch < NCH; ++ch) {
-        const soak::Periph &pe = *periph_[static_cast<size_t>(ch)];
-        txns += pe.log.size();
-        for (const PeriphTxn &x : pe.log)
-            need(x.error.empty(), "ch" + std::to_string(ch) + ": the cell could not read a command: " + x.error);
-        need(pe.collisions == 0, "ch" + std::to_string(ch) + ": the host drove the line during an answer");
-    }
+    const uint64_t txns = check_lines();
     const bool spec_ok = spec_check();
     if (!opt_.transcript.empty()) {
         FILE *f = std::fopen(opt_.transcript.c_str(), "w");
@@ -1171,13 +1176,8 @@ int Soak::run_session() {
     std::printf("session: %" PRIu64 " transactions on %d lines, %" PRIu64 " bus accesses, %" PRIu64
                 " interrupt waits, %" PRIu64 " ms simulated, %.1f s wall\n",
                 txns, NCH, accesses_, irq_waits_, cyc_ / CYC_PER_US / 1000, wall);
-    if (mismatches_) {
-        std::printf("FAIL: %" PRIu64 " mismatches%s\n", mismatches_,
-                    spec_ok ? "" : " (spec-timing breaches among them)");
-        for (const std::string &m : messages_)
-            std::printf("  %s\n", m.c_str());
-        return 1;
-    }
+    if (mismatches_)
+        return fail_report("", spec_ok);
     std::printf("PASS: the driver session on the Verilated core, every transaction inside the "
                 "spec's timing table\n");
     return 0;
