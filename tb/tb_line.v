@@ -17,7 +17,7 @@
 // the Verilated soak and SoC use this line without them.
 `default_nettype none
 module tb_line #(
-    // used only outside Verilator (the logs and the carrier flag serve cocotb)
+    // used only with the logs (the logs and the carrier flag serve cocotb)
     /* verilator lint_off UNUSEDPARAM */
     parameter PIN_LOG  = "",
     parameter LINE_LOG = ""

@@ -581,17 +581,17 @@ def seed_of(name):
     return os.environ.get("COCOTB_RANDOM_SEED") or str(zlib.crc32(name.encode()))
 
 
-def _run(testcase, clk_hz, sim, name):
+def _run(testcase, clk_hz, sim, name, seed_name=None):
     simrun.run("tb_link", "test_twh_link", name, parameters={"CLK_HZ": clk_hz},
-               testcase=testcase, tb_sources=LINK_SOURCES, sim=sim, seed=seed_of(name),
-               extra_env={"TWH_CLK_HZ": str(clk_hz)})
+               testcase=testcase, tb_sources=LINK_SOURCES, sim=sim,
+               seed=seed_of(seed_name or name), extra_env={"TWH_CLK_HZ": str(clk_hz)})
     return (simrun.ROOT / "build" / "sim" / name / "transcript.txt").read_text()
 
 
 def _same_on_both(testcase, clk_hz, tag):
     """The test on Icarus and on Verilator, the same seed: the same transcript."""
-    icarus = _run(testcase, clk_hz, "icarus", f"{tag}_icarus")
-    verilator = _run(testcase, clk_hz, "verilator", f"{tag}_verilator")
+    icarus = _run(testcase, clk_hz, "icarus", f"{tag}_icarus", seed_name=tag)
+    verilator = _run(testcase, clk_hz, "verilator", f"{tag}_verilator", seed_name=tag)
     assert icarus.strip() and icarus == verilator, \
         f"{testcase} at {clk_hz} Hz: the transcripts differ (build/sim/{tag}_icarus/" \
         f"transcript.txt, build/sim/{tag}_verilator/transcript.txt)"
