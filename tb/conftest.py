@@ -30,9 +30,10 @@ HANG_FACTOR = 2
 
 # Scheduled first, longest first, so that pytest-xdist does not start a long
 # run on one core while the other has nothing left to do. The engine's
-# benches come second: while one core runs the long random test, the other
-# makes their Verilator build (tb/simrun.py) and starts on them, so no core
-# waits for the build.
+# benches come second, so that their Verilator build (tb/simrun.py) starts
+# early, mostly beside the long random test; xdist hands each worker more
+# than one item at first, so the other core may still wait on the build's
+# lock for part of it.
 LONG_MODULES = ("test_random.py", "test_twh_link.py", "test_twh_core.py", "test_cosim.py",
                 "test_board_top.py")
 
