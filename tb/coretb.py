@@ -4,12 +4,12 @@ twh_axil around twh_core, up to three channels on simulated 2-wire lines).
 - One PeripheralModel and one SpecMonitor per channel, each pointed at its
   channel through a small adapter whose attributes are that channel's
   handles (`line`, `periph_o`, `periph_oe`, `line_o`, `line_oe`).
-- A bus driver: cocotbext-wishbone's WishboneMaster (BUS=0) or
-  cocotbext-axi's AxiLiteMaster (BUS=1), both behind `access()`, which
-  returns (data, error) and fails the test if the access is not answered
-  within ACCESS_TIMEOUT_US of simulated time. A protocol check runs around
-  every access: Wishbone answers exactly one ack or err, two clocks after the
-  strobe is taken (the core's request stage, then the access), never both; AXI-Lite takes AW and W in the same clock and
+- A bus master: classic Wishbone (BUS=0) or AXI-Lite (BUS=1), both behind
+  `access()`, which returns (data, error) and fails the test if the access
+  is not answered within ACCESS_TIMEOUT_US of simulated time. A protocol
+  check runs around every access: Wishbone answers exactly one ack or err,
+  two clocks after the strobe is taken (the core's request stage, then the
+  access), never both; AXI-Lite takes AW and W in the same clock and
   answers each access exactly once.
 - Register helpers by name (tb/regmap.py reads rdl/twh_regs.rdl), command
   push / result pop helpers, and `finish()`, which closes and checks every
@@ -27,7 +27,7 @@ from typing import Dict, List, Optional
 
 import cocotb
 from cocotb.simtime import get_sim_time
-from cocotb.triggers import First, RisingEdge, Timer, with_timeout
+from cocotb.triggers import FallingEdge, First, Lock, RisingEdge, Timer, with_timeout
 
 import profiles
 import regmap
@@ -83,19 +83,18 @@ class Result:
 
 
 # ---------------------------------------------------------------- bus drivers
+# Both masters drive right after a rising edge and read the core's outputs
+# at the falling edge, where they hold the value the next rising edge takes.
+# Right after a rising edge Icarus shows the values before it and Verilator
+# those after it, so a master (or a check) reading there would see a
+# different bus on each simulator; at the falling edge both agree, and the
+# same bench runs on both (tb/simrun.py).
 class WishboneDriver:
-    """cocotbext-wishbone master on tb_core's wb_* port, with a check of
-    the classic-cycle handshake around every access."""
+    """Classic-cycle Wishbone master on tb_core's wb_* port, with a check
+    of the handshake around every cycle."""
 
     def __init__(self, dut):
-        from cocotbext.wishbone.driver import WishboneMaster, WBOp
-        self._WBOp = WBOp
         self.dut = dut
-        self.master = WishboneMaster(
-            dut, "wb", dut.clk, width=32,
-            signals_dict={"cyc": "cyc_i", "stb": "stb_i", "we": "we_i",
-                          "adr": "adr_i", "datwr": "dat_i", "datrd": "dat_o",
-                          "ack": "ack_o", "err": "err_o", "sel": "sel_i"})
         self.violations: List[str] = []
 
     def idle_inputs(self):
@@ -105,16 +104,16 @@ class WishboneDriver:
         d.wb_sel_i.value = 0xF
 
     async def _watch(self, box):
-        """Samples the handshake at every rising edge of one cycle (values
-        before the edge): a strobe taken at edge k must be answered (ack or
-        err, not both) at edge k+2, and nothing else may be answered."""
+        """Samples the handshake before every rising edge of one cycle: a
+        strobe taken at edge k must be answered (ack or err, not both) at
+        edge k+2, and nothing else may be answered."""
         d = self.dut
-        clk = RisingEdge(d.clk)
+        fall = FallingEdge(d.clk)
         waited = 0          # edges the strobe now up has been seen unanswered
         answers = 0
         seen_cyc = False
         while True:
-            await clk
+            await fall
             cyc, stb = int(d.wb_cyc_i.value), int(d.wb_stb_i.value)
             ack, err = int(d.wb_ack_o.value), int(d.wb_err_o.value)
             if ack and err:
@@ -141,56 +140,79 @@ class WishboneDriver:
     async def cycle(self, ops):
         """One bus cycle (cyc held) of several accesses, strobes back to
         back: ops are (addr, data or None, sel); returns [(data, err)]."""
+        d = self.dut
         box: list = []
         watcher = cocotb.start_soon(self._watch(box))
-        res = await self.master.send_cycle(
-            [self._WBOp(adr=a, dat=d, sel=s) for a, d, s in ops])
+        res = []
+        await RisingEdge(d.clk)
+        d.wb_cyc_i.value = 1
+        for addr, data, sel in ops:
+            d.wb_stb_i.value = 1
+            d.wb_adr_i.value = addr
+            d.wb_we_i.value = int(data is not None)
+            d.wb_dat_i.value = data or 0
+            d.wb_sel_i.value = sel
+            while True:
+                await FallingEdge(d.clk)
+                ack, err = int(d.wb_ack_o.value), int(d.wb_err_o.value)
+                if ack or err:
+                    dat = d.wb_dat_o.value
+                    res.append((int(dat) if dat.is_resolvable else 0, bool(err)))
+                    break
+            await RisingEdge(d.clk)     # the edge that takes the answer
+        self.idle_inputs()
         await watcher
         if not box or box[0] != len(ops) or len(res) != len(ops):
             self.violations.append(f"cycle at {ops[0][0]:#x}: {box} answers, {len(res)} results "
                                    f"for {len(ops)} strobes")
         if self.violations:
             raise AssertionError("Wishbone handshake: " + "; ".join(self.violations))
-        return [(int(r.datrd) if r.datrd is not None and r.datrd.is_resolvable else 0,
-                 r.ack == 2) for r in res]
+        return res
 
     async def access(self, addr, data=None, sel=0xF):
         return (await self.cycle([(addr, data, sel)]))[0]
 
 
 class AxiLiteDriver:
-    """cocotbext-axi AxiLiteMaster on tb_core's s_axil_* port. A watcher
-    checks that AW and W are always taken in the same clock and counts the
-    responses (one per access)."""
+    """AXI-Lite master on tb_core's s_axil_* port: one write and one read
+    may be in flight at once (each channel pair in order), as a CPU's load
+    and store units would issue them; bready and rready are always high.
+    A watcher checks that AW and W are always taken in the same clock and
+    counts the responses (one per access)."""
 
     def __init__(self, dut):
-        from cocotbext.axi import AxiLiteBus, AxiLiteMaster
         self.dut = dut
-        self.master = AxiLiteMaster(AxiLiteBus.from_prefix(dut, "s_axil"),
-                                    dut.clk, dut.rst)
         self.violations: List[str] = []
         self.n_access = 0
         self.n_resp = 0
         self._watch_task = None
+        self._write_lock = Lock()
+        self._read_lock = Lock()
 
     def idle_inputs(self):
         d = self.dut
         for s in (d.wb_cyc_i, d.wb_stb_i, d.wb_we_i, d.wb_adr_i, d.wb_dat_i, d.wb_sel_i):
             s.value = 0
+        for s in (d.s_axil_awvalid, d.s_axil_awaddr, d.s_axil_awprot, d.s_axil_wvalid,
+                  d.s_axil_wdata, d.s_axil_wstrb, d.s_axil_arvalid, d.s_axil_araddr,
+                  d.s_axil_arprot):
+            s.value = 0
+        d.s_axil_bready.value = 1
+        d.s_axil_rready.value = 1
 
     def start(self):
         self._watch_task = cocotb.start_soon(self._watch())
 
     async def _watch(self):
         d = self.dut
-        clk = RisingEdge(d.clk)
+        fall = FallingEdge(d.clk)
         while True:
             # sleep while the bus is quiet
             if not any(int(s.value) for s in (d.s_axil_awvalid, d.s_axil_wvalid,
                                                 d.s_axil_arvalid, d.s_axil_bvalid,
                                                 d.s_axil_rvalid)):
                 await _axil_activity(d)
-            await clk
+            await fall
             aw = int(d.s_axil_awvalid.value) and int(d.s_axil_awready.value)
             w = int(d.s_axil_wvalid.value) and int(d.s_axil_wready.value)
             if aw != w:
@@ -200,24 +222,68 @@ class AxiLiteDriver:
             if int(d.s_axil_rvalid.value) and int(d.s_axil_rready.value):
                 self.n_resp += 1
 
+    async def _until(self, cond):
+        """Waits for the falling edge where cond() holds, then for the
+        rising edge that takes it."""
+        clk = self.dut.clk
+        while True:
+            await FallingEdge(clk)
+            if cond():
+                break
+        await RisingEdge(clk)
+
+    async def write(self, addr, data, strb=0xF):
+        """One write; returns its BRESP."""
+        d = self.dut
+        async with self._write_lock:
+            await RisingEdge(d.clk)
+            d.s_axil_awaddr.value = addr
+            d.s_axil_wdata.value = data
+            d.s_axil_wstrb.value = strb
+            d.s_axil_awvalid.value = 1
+            d.s_axil_wvalid.value = 1
+            pending = {"aw": True, "w": True}
+            while any(pending.values()):
+                await FallingEdge(d.clk)
+                taken = {"aw": pending["aw"] and int(d.s_axil_awready.value),
+                         "w": pending["w"] and int(d.s_axil_wready.value)}
+                await RisingEdge(d.clk)
+                if taken["aw"]:
+                    d.s_axil_awvalid.value = 0
+                    pending["aw"] = False
+                if taken["w"]:
+                    d.s_axil_wvalid.value = 0
+                    pending["w"] = False
+            box = []
+            await self._until(lambda: int(d.s_axil_bvalid.value)
+                              and not box.append(int(d.s_axil_bresp.value)))
+            return box[0]
+
+    async def read(self, addr):
+        """One read; returns (RDATA, RRESP)."""
+        d = self.dut
+        async with self._read_lock:
+            await RisingEdge(d.clk)
+            d.s_axil_araddr.value = addr
+            d.s_axil_arvalid.value = 1
+            await self._until(lambda: int(d.s_axil_arready.value))
+            d.s_axil_arvalid.value = 0
+            box = []
+            await self._until(lambda: int(d.s_axil_rvalid.value)
+                              and not box.append((int(d.s_axil_rdata.value),
+                                                  int(d.s_axil_rresp.value))))
+            return box[0]
+
     async def access(self, addr, data=None, sel=0xF):
-        m = self.master
         self.n_access += 1
         if data is None:
-            r = await m.read(addr, 4)
-            value, resp = int.from_bytes(r.data, "little"), int(r.resp)
+            value, resp = await self.read(addr)
         else:
-            if sel == 0 or sel & (sel + (sel & -sel)):
-                raise ValueError(f"byte enables {sel:#x}: AxiLiteMaster needs one contiguous run")
-            lo = (sel & -sel).bit_length() - 1
-            n = bin(sel).count("1")
-            b = data.to_bytes(4, "little")[lo:lo + n]
-            r = await m.write(addr + lo, b)
-            value, resp = 0, int(r.resp)
+            value, resp = 0, await self.write(addr, data, sel)
         if resp not in (0, 2):
             self.violations.append(f"access {addr:#x}: resp {resp} (expected OKAY or SLVERR)")
-        # the response was counted at the edge that took it
-        await RisingEdge(self.dut.clk)
+        # the watcher counted the response at the falling edge before the
+        # rising edge that took it, which write()/read() waited for
         if self.n_resp != self.n_access:
             self.violations.append(f"{self.n_resp} responses for {self.n_access} accesses")
         if self.violations:
@@ -226,7 +292,6 @@ class AxiLiteDriver:
 
 
 async def _axil_activity(d):
-    from cocotb.triggers import First
     await First(RisingEdge(d.s_axil_awvalid), RisingEdge(d.s_axil_wvalid),
                 RisingEdge(d.s_axil_arvalid), RisingEdge(d.s_axil_bvalid),
                 RisingEdge(d.s_axil_rvalid))
@@ -293,16 +358,7 @@ class CoreTB:
                                if prof else None)
             self.monitors.append(SpecMonitor(pins, execute_max_us=prof.exec_max_us if prof else 10000,
                                              name=f"spec_ch{ch}", pin_log=f"pins_{ch}.log"))
-        if self.bus_kind == 0:
-            self.bus = WishboneDriver(d)
-        else:
-            # AxiLiteMaster follows the reset signal from its edges: let it
-            # see one (no clock edge has happened yet)
-            d.rst.value = 0
-            await Timer(1, "ns")
-            self.bus = AxiLiteDriver(d)
-            await Timer(1, "ns")
-            d.rst.value = 1
+        self.bus = WishboneDriver(d) if self.bus_kind == 0 else AxiLiteDriver(d)
         self.bus.idle_inputs()
         for _ in range(4):
             await RisingEdge(d.clk)
@@ -545,3 +601,19 @@ class CoreTB:
         if expect_empty:
             assert not self.results, f"unclaimed results: {self.results}"
             assert await self.pop() is None, "results left in the result FIFO"
+        self.write_transcript()
+
+    def write_transcript(self, path="transcript.txt"):
+        """Every result popped, then per channel every frame its cell
+        handled (with the answer) and every transaction its spec monitor
+        measured: what make test-slow requires to be the same on Icarus
+        and Verilator (tb/simrun.py)."""
+        lines = [f"result ch{r.channel} {r.cmd:02X} {r.data:04X} {r.status} {r.tag}"
+                 for r in self.popped]
+        for ch in range(self.channels):
+            lines.append(f"channel {ch}")
+            if self.models[ch] is not None:
+                lines += [x.transcript() for x in self.models[ch].logic.log]
+            lines += [t.transcript() for t in self.monitors[ch].transactions]
+        with open(path, "w") as f:
+            f.write("\n".join(lines) + "\n")

@@ -144,13 +144,7 @@ class LinkTB:
     def write_transcript(self, path="transcript.txt"):
         lines = [f"result {r.code:02X} {r.data:04X} {r.status.name} {r.tag}" for r in self.taken]
         if self.model is not None:
-            lines += [f"frame {bytes(x.frame).hex()} -> "
-                      f"{'none' if x.response is None else bytes(x.response).hex()}"
-                      for x in self.model.logic.log]
-        for t in self.monitor.checker.transactions:
-            lines.append(f"txn {t.start_ps} {bytes(t.frame).hex()} " + " ".join(
-                f"{v:.3f}" if isinstance(v, float) else str(v)
-                for v in (t.charge_us, t.sync_us, t.preamble_us, t.command_us, t.execute_us,
-                          t.listen_us, t.turnaround_us, t.complete)))
+            lines += [x.transcript() for x in self.model.logic.log]
+        lines += [t.transcript() for t in self.monitor.checker.transactions]
         with open(path, "w") as f:
             f.write("\n".join(lines) + "\n")

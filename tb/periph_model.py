@@ -57,6 +57,12 @@ class LogicRecord:
     def name(self) -> str:
         return p.command_name(self.frame[0]) if self.frame else "EMPTY"
 
+    def transcript(self) -> str:
+        """This frame and its answer as the cross-simulator transcripts
+        write them (tb/simrun.py)."""
+        return (f"frame {bytes(self.frame).hex()} -> "
+                f"{'none' if self.response is None else bytes(self.response).hex()}")
+
 
 class PeripheralLogic:
     """Command handler of one device, on a private copy of its flash.

