@@ -29,11 +29,11 @@ SLOW_BUDGET_S = 900
 HANG_FACTOR = 2
 
 # Scheduled first, longest first, so that pytest-xdist does not start a long
-# run on one core while the other has nothing left to do. The engine's
-# benches come second, so that their Verilator build (tb/simrun.py) starts
-# early, mostly beside the long random test; xdist hands each worker more
-# than one item at first, so the other core may still wait on the build's
-# lock for part of it.
+# run on one core while the other has nothing left to do. The first two
+# start the two Verilator builds most tests share (tb/simrun.py: the bus
+# core's, with the Verilator runtime, then the engine's, which waits for
+# that runtime on its lock while the first build compiles it on both
+# cores).
 LONG_MODULES = ("test_random.py", "test_twh_link.py", "test_twh_core.py", "test_cosim.py",
                 "test_board_top.py")
 
