@@ -222,15 +222,18 @@ class AxiLiteDriver:
             if int(d.s_axil_rvalid.value) and int(d.s_axil_rready.value):
                 self.n_resp += 1
 
-    async def _until(self, cond):
+    async def _until(self, cond, sample=lambda: None):
         """Waits for the falling edge where cond() holds, then for the
-        rising edge that takes it."""
+        rising edge that takes it; returns sample() as read at that falling
+        edge."""
         clk = self.dut.clk
         while True:
             await FallingEdge(clk)
             if cond():
+                value = sample()
                 break
         await RisingEdge(clk)
+        return value
 
     async def write(self, addr, data, strb=0xF):
         """One write; returns its BRESP."""
@@ -254,10 +257,8 @@ class AxiLiteDriver:
                 if taken["w"]:
                     d.s_axil_wvalid.value = 0
                     pending["w"] = False
-            box = []
-            await self._until(lambda: int(d.s_axil_bvalid.value)
-                              and not box.append(int(d.s_axil_bresp.value)))
-            return box[0]
+            return await self._until(lambda: int(d.s_axil_bvalid.value),
+                                     lambda: int(d.s_axil_bresp.value))
 
     async def read(self, addr):
         """One read; returns (RDATA, RRESP)."""
@@ -268,11 +269,9 @@ class AxiLiteDriver:
             d.s_axil_arvalid.value = 1
             await self._until(lambda: int(d.s_axil_arready.value))
             d.s_axil_arvalid.value = 0
-            box = []
-            await self._until(lambda: int(d.s_axil_rvalid.value)
-                              and not box.append((int(d.s_axil_rdata.value),
-                                                  int(d.s_axil_rresp.value))))
-            return box[0]
+            return await self._until(lambda: int(d.s_axil_rvalid.value),
+                                     lambda: (int(d.s_axil_rdata.value),
+                                              int(d.s_axil_rresp.value)))
 
     async def access(self, addr, data=None, sel=0xF):
         self.n_access += 1

@@ -112,7 +112,7 @@ def _run(bus, n, seed, cov_out, cov_in=None, require=True, build="random", sim="
     simrun.run("tb_core", "test_random", name,
                parameters={"CLK_HZ": CLK_HZ, "CHANNELS": 3, "FIFO_DEPTH": 16, "BUS": bus},
                testcase="random_regression", tb_sources=["tb_core.v"], extra_env=env, sim=sim,
-               seed=simrun.seed_of(seed_name or name))
+               seed=simrun.seed_of(seed_name) if seed_name else None)
 
 
 # make test's run: one seed (TWH_SEED, else the default), QUICK_N agent
@@ -125,7 +125,7 @@ QUICK_N = 10
 
 # It runs on Verilator, on the build test_twh_core's cases share; make
 # test-slow runs it on Icarus too and requires the same transcript.
-def _one_seed(sim="verilator", name=None, seed_name=None):
+def _one_seed(sim="verilator", name=None, seed_name="random_quick_wb"):
     _run(0, QUICK_N, rt.seed_from_env(), "random-quick", require=False, build="random_quick",
          sim=sim, name=name, seed_name=seed_name)
 
@@ -136,8 +136,7 @@ def test_random_one_seed():
 
 @pytest.mark.slow
 def test_random_one_seed_both():
-    simrun.same_on_both(lambda sim, name, seed_name: _one_seed(sim, name, seed_name),
-                        "random_quick_wb")
+    simrun.same_on_both(_one_seed, "random_quick_wb")
 
 
 @pytest.mark.slow
