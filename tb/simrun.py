@@ -128,7 +128,10 @@ def _build_verilator(runner, toplevel, sources, parameters):
 
 
 def run(toplevel, test_module, name, *, parameters=None, testcase=None,
-        tb_sources=(), plusargs=(), extra_env=None, vcd=False, sim="icarus", seed=None):
+        tb_sources=(), plusargs=(), extra_env=None, vcd=False, sim="icarus", seed_name=None):
+    """seed_name: the run whose shared seed (seed_of) this one takes, for a
+    run that has a twin on the other simulator; None: the runner's own
+    (COCOTB_RANDOM_SEED, else a random one)."""
     # tb_line.v (the simulated line) serves every test-bench top
     sources = [*rtl_sources(), TB_DIR / "tb_line.v", *(TB_DIR / s for s in tb_sources)]
     test_dir = ROOT / "build" / "sim" / name
@@ -150,8 +153,7 @@ def run(toplevel, test_module, name, *, parameters=None, testcase=None,
         )
     env = {"PYTHONPATH": os.environ.get("PYTHONPATH", str(TB_DIR))}
     env.update(extra_env or {})
-    if seed is None:
-        seed = os.environ.get("COCOTB_RANDOM_SEED")
+    seed = seed_of(seed_name) if seed_name else os.environ.get("COCOTB_RANDOM_SEED")
     # The runner lets the parent environment override extra_env, so a
     # variable exported in the shell would silently replace what the test
     # asked for: put the test's values into the environment for the run.

@@ -112,7 +112,7 @@ def _run(bus, n, seed, cov_out, cov_in=None, require=True, build="random", sim="
     simrun.run("tb_core", "test_random", name,
                parameters={"CLK_HZ": CLK_HZ, "CHANNELS": 3, "FIFO_DEPTH": 16, "BUS": bus},
                testcase="random_regression", tb_sources=["tb_core.v"], extra_env=env, sim=sim,
-               seed=simrun.seed_of(seed_name) if seed_name else None)
+               seed_name=seed_name)
 
 
 # make test's run: one seed (TWH_SEED, else the default), QUICK_N agent

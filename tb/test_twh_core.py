@@ -1062,7 +1062,7 @@ def run_core(testcase, bus, clk_hz=12_000_000, channels=3, fifo_depth=16, env=No
                parameters={"CLK_HZ": clk_hz, "CHANNELS": channels,
                            "FIFO_DEPTH": fifo_depth, "BUS": bus, **(features or {})},
                testcase=testcase, tb_sources=CORE_SOURCES, extra_env=extra, sim=sim,
-               seed=simrun.seed_of(seed_name) if seed_name else None)
+               seed_name=seed_name)
 
 
 def core_name(testcase, bus, channels):
