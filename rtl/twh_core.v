@@ -337,7 +337,16 @@ module twh_core #(
     wire [LW-1:0] res_level;
     wire [35:0] res_head;
     wire [7:0] c_res_valid8;
-    wire res_push = c_res_valid8[scan] && !res_full;
+    // scan_v: the channel the scan offers has a result, a flip-flop taken a
+    // clock ahead for the scan's next position (a result stays offered until
+    // it is taken, and only a push takes it), so the push waits only for
+    // scan_v and the full flag: the channels' valid multiplexer is off the
+    // path into the FIFO's write side. A result that comes while the scan
+    // stands at its channel goes in when the scan comes back round: within
+    // CH_COUNT + 1 clocks with room in the FIFO.
+    reg        scan_v;
+    wire [2:0] scan_nx = (scan == CH_COUNT[2:0] - 3'd1 || CHANNELS == 1) ? 3'd0 : scan + 1'b1;
+    wire res_push = scan_v && !res_full;
     wire [3:0] push_status = c_res_status[scan*4 +: 4];
     wire pop_req = q_pop;
 
@@ -352,8 +361,10 @@ module twh_core #(
     );
 
     always @(posedge clk) begin
-        if (rst || scan == CH_COUNT[2:0] - 3'd1 || CHANNELS == 1) scan <= 3'd0;
-        else                                                     scan <= scan + 1'b1;
+        scan   <= rst ? 3'd0 : scan_nx;
+        // (with one channel the scan stays put: a result pushed now is
+        // gone in the next clock)
+        scan_v <= !rst && c_res_valid8[scan_nx] && !(CHANNELS == 1 && res_push);
     end
 
     // ------------------------------------------------------------ channels
@@ -408,7 +419,7 @@ module twh_core #(
                 .slot_skip_i(h_skip),
                 .cancel(flush_wr),
                 .slot_full(slot_full[n]),
-                .res_valid(c_res_valid[n]), .res_ready(scan == n && !res_full),
+                .res_valid(c_res_valid[n]), .res_ready(scan == n && scan_v && !res_full),
                 .res_cmd(c_res_cmd[n*8 +: 8]), .res_data(c_res_data[n*16 +: 16]),
                 .res_status(c_res_status[n*4 +: 4]), .res_tag(c_res_tag[n*5 +: 5]),
                 .line_o(line_o[n]), .line_oe(line_oe[n]), .line_i(line_i[n]),
@@ -827,9 +838,11 @@ module twh_core #(
 
     // ------------------------------------------------ no result waits for ever
     // The scan offers each channel the result FIFO in turn: a result offered
-    // while the FIFO has room goes in within CH_COUNT clocks (w: clocks it
-    // has waited so, with the FIFO not full).
+    // while the FIFO has room goes in within CH_COUNT + 1 clocks (w: clocks
+    // it has waited so, with the FIFO not full). scan_v never offers a
+    // result that is not there.
     always @(*) if (f_ok) assert({1'b0, scan} < CH_COUNT);
+    always @(*) if (f_ok && !rst && scan_v) assert(c_res_valid8[scan]);
     genvar f_n;
     generate
         for (f_n = 0; f_n < CHANNELS; f_n = f_n + 1) begin : g_f_rw
@@ -842,7 +855,9 @@ module twh_core #(
             // add up to less than one round)
             wire [3:0] d = ({1'b0, scan} <= f_n) ? f_n - {1'b0, scan}
                                                  : f_n + CH_COUNT - {1'b0, scan};
-            always @(*) if (f_ok) assert({1'b0, w} + {1'b0, d} < {1'b0, CH_COUNT});
+            always @(*) if (f_ok) assert({1'b0, w} + {1'b0, d} <= {1'b0, CH_COUNT});
+            // (a result not offered where the scan stands came this clock)
+            always @(*) if (f_ok && scan == f_n && c_res_valid[f_n] && !scan_v) assert(w == 4'd0);
         end
     endgenerate
 

@@ -619,6 +619,12 @@ module twh_link #(
         end
     end
 
+    // the receiver's input contract (twh_rx): no tick in two clocks
+    // running, and at a tick its enable is as a clock before, or 0 after
+    // a reset
+    always @(posedge clk)
+        if (f_ok && tick) assert(!$past(tick) && rx_en == ($past(rx_en) && !$past(rst)));
+
     always @(*) begin
         if (f_ok) begin
             // a programmable phase starts only with a length delivered for

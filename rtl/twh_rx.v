@@ -15,6 +15,11 @@
 //   the answer counts as short, not as a framing error.
 // - 30.75-31.75 kbps: after 9.5 bits the sampling drift is at most ~5 us.
 // Clearing `en` (outside the listen phase) clears everything.
+// Input contract (twh_link keeps it, and its proof checks it): a tick never
+// comes in two clocks running, and at a tick `en` is what it was a clock
+// before, or 0 if reset was on then. So whether a tick steps the receiver
+// (`go`: en and not done) is a flip-flop taken a clock ahead, and the
+// core's one tick, routed to every channel, meets it in the first LUT.
 `default_nettype none
 module twh_rx (
     input  wire        clk,
@@ -62,8 +67,12 @@ module twh_rx (
     // an idle receiver does no work in simulation.
     reg  en_q;
     wire clr = rst || (en_q && !en);
+    // en && !done a clock ago: done moves only at a tick, en not in the
+    // clock before one (the contract), so at every tick go is en && !done
+    reg  go;
     always @(posedge clk) begin
         en_q <= !rst && en;
+        go   <= !rst && en && !done;
         if (clr) begin
             nbytes    <= 2'd0;
             bytes     <= 24'd0;
@@ -84,7 +93,7 @@ module twh_rx (
             chk_data  <= 1'b0;
             chk_stop  <= 1'b0;
             at_end    <= 1'b0;
-        end else if (en && tick && !done) begin
+        end else if (tick && go) begin
             if (!env)                mark <= 5'd0;
             else if (!mark_full)     mark <= mark + 1'b1;
             mark_full <= env && (mark_full || mark == 5'd15);
@@ -144,6 +153,13 @@ module twh_rx (
         f_past_valid <= 1'b1;
         f_past_ok       <= f_ok && !rst && en;
     end
+    // the input contract (asserted on twh_link's instance by its proof)
+    always @(posedge clk)
+        if (f_ok && f_past_valid && tick)
+            assume(!$past(tick) && en == ($past(en) && !$past(rst)));
+    // ... under which the flip-flop is the enable it stands for
+    always @(posedge clk)
+        if (f_ok && f_past_valid && tick) assert(go == (en && !done));
 
     // Consecutive mark ticks since en (saturating at 16), and whether 16
     // of them were seen before some tick: what a first start needs.
@@ -221,8 +237,8 @@ module twh_rx (
     // characters of any value with any idle time (one stop bit or more)
     // between them; it may stop keying instead of starting a character (a
     // break: all zeros). Once the receiver is done the envelope is free.
-    // Ticks and en are free; the sender starts over whenever en is low.
-    // Assumptions touch only the env input, so they cannot be vacuous.
+    // Ticks and en are free but for the input contract; the sender starts
+    // over whenever en is low. Its assumptions touch only the env input.
     localparam [2:0] M_SILENT = 3'd0, M_MARK = 3'd1, M_CHAR = 3'd2,
                      M_GAP = 3'd3, M_FREE = 3'd4;
     reg [2:0]  m_st;
