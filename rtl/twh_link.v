@@ -175,11 +175,23 @@ module twh_link #(
     // 1 charge, 2 sync, 3 preamble, 4 execute, 5 listen, 6 turnaround). The
     // command phase and the idle after a turnaround have fixed lengths, so
     // preamble already names execute and turnaround names charge.
-    assign nx_fld[0] = ph_oh[`TWH_PH_IDLE] | ph_oh[`TWH_PH_SYNC] | ph_oh[`TWH_PH_EXECUTE] |
-                       ph_oh[`TWH_PH_TURNAROUND];
-    assign nx_fld[1] = ph_oh[`TWH_PH_CHARGE] | ph_oh[`TWH_PH_SYNC] | ph_oh[`TWH_PH_LISTEN];
-    assign nx_fld[2] = ph_oh[`TWH_PH_PREAMBLE] | ph_oh[`TWH_PH_COMMAND] |
-                       ph_oh[`TWH_PH_EXECUTE] | ph_oh[`TWH_PH_LISTEN];
+    // A register that moves with ph_oh, taken from the one-hot value ph_oh
+    // is about to hold, so twh_timing's fetch address starts from flip-flops
+    // (the UP5K's critical path ran from ph_oh through this decode into the
+    // fetch).
+    function [2:0] fld_next;
+        input [7:0] oh;
+        begin
+            fld_next[0] = oh[`TWH_PH_IDLE] | oh[`TWH_PH_SYNC] | oh[`TWH_PH_EXECUTE] |
+                          oh[`TWH_PH_TURNAROUND];
+            fld_next[1] = oh[`TWH_PH_CHARGE] | oh[`TWH_PH_SYNC] | oh[`TWH_PH_LISTEN];
+            fld_next[2] = oh[`TWH_PH_PREAMBLE] | oh[`TWH_PH_COMMAND] |
+                          oh[`TWH_PH_EXECUTE] | oh[`TWH_PH_LISTEN];
+        end
+    endfunction
+    reg [2:0] nx_fld_r;
+    assign nx_fld = nx_fld_r;
+    wire [7:0] ph_oh_nx = {ph_oh[6:0], ph_oh[7]};   // the phase after this one
     reg [2:0] dur_fld;      // the field dur_next holds (0: none yet)
     // dur_ok: dur_next holds the field needed. Registered, off the path into
     // the phase registers, and exact: it is taken from dur_fld as it will
@@ -248,6 +260,7 @@ module twh_link #(
             rdy         <= 1'b0;
             ph          <= `TWH_PH_IDLE;
             ph_oh       <= 8'd1 << `TWH_PH_IDLE;
+            nx_fld_r    <= fld_next(8'd1 << `TWH_PH_IDLE);
             // one more: the first tick after reset already counts, and the
             // line must rest at least the full minimum turnaround
             cnt         <= `TWH_TURNAROUND_MIN + 16'd1;
@@ -311,7 +324,8 @@ module twh_link #(
                     end else if (pending && pend_q && dur_ok) begin
                         pending  <= 1'b0;
                         ph       <= `TWH_PH_CHARGE;
-                        ph_oh    <= {ph_oh[6:0], ph_oh[7]};
+                        ph_oh    <= ph_oh_nx;
+                        nx_fld_r <= fld_next(ph_oh_nx);
                         cnt      <= dur_next;
                         saw_low  <= 1'b0;
                         saw_high <= 1'b0;
@@ -319,8 +333,9 @@ module twh_link #(
                 end else if (!last) begin
                     cnt <= cnt - 1'b1;
                 end else if (ph_oh[`TWH_PH_PREAMBLE] || ph_oh[`TWH_PH_TURNAROUND] || dur_ok) begin
-                    ph    <= ph + 1'b1;              // phases run in code order
-                    ph_oh <= {ph_oh[6:0], ph_oh[7]};
+                    ph       <= ph + 1'b1;           // phases run in code order
+                    ph_oh    <= ph_oh_nx;
+                    nx_fld_r <= fld_next(ph_oh_nx);
                     cnt   <= fixed_len ? fixed_cnt : dur_next;
                     if (ph_oh[`TWH_PH_PREAMBLE]) begin
                         bitn  <= 4'd0;

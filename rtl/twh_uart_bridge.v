@@ -51,12 +51,30 @@ module twh_uart_bridge #(
 
     localparam [7:0] OP_READ = 8'h52, OP_WRITE = 8'h57, OP_STATUS = 8'h53;
 
-    wire [7:0] rx_data;
-    wire       rx_valid, rx_ferr;
+    wire [7:0] rx_byte;
+    wire       rx_strobe, rx_bad;
     twh_uart_rx #(.CLK_HZ(CLK_HZ), .BAUD(BAUD)) u_rx (
         .clk(clk), .rst(rst), .rx(uart_rx),
-        .data(rx_data), .valid(rx_valid), .frame_err(rx_ferr)
+        .data(rx_byte), .valid(rx_strobe), .frame_err(rx_bad)
     );
+    // The parser takes each character a clock after the receiver, with its
+    // opcode already decoded: the parser's enables then start from
+    // flip-flops, with no byte compare in front of them (the iCEBreaker
+    // top's critical path on the UP5K ran from the received byte through
+    // the opcode compare into the parser's state).
+    reg [7:0] rx_data;
+    reg       rx_valid, rx_ferr;
+    reg       op_rw, op_w, op_s;     // rx_data is 'R' or 'W', 'W', 'S'
+    always @(posedge clk) begin
+        rx_valid <= !rst && rx_strobe;
+        rx_ferr  <= !rst && rx_bad;
+        if (rx_strobe) begin
+            rx_data <= rx_byte;
+            op_rw   <= (rx_byte == OP_READ) || (rx_byte == OP_WRITE);
+            op_w    <= (rx_byte == OP_WRITE);
+            op_s    <= (rx_byte == OP_STATUS);
+        end
+    end
 
     reg  [7:0] tx_data;
     reg        tx_valid;
@@ -152,10 +170,10 @@ module twh_uart_bridge #(
                     idx  <= 3'd0;
                     idle     <= C_TMO;
                     idle_out <= 1'b0;
-                    if (rx_data == OP_READ || rx_data == OP_WRITE) begin
+                    if (op_rw) begin
                         in_req   <= 1'b1;
-                        is_write <= (rx_data == OP_WRITE);
-                    end else if (rx_data == OP_STATUS) begin
+                        is_write <= op_w;
+                    end else if (op_s) begin
                         is_write  <= 1'b1;           // answer: the status byte only
                         frame_err <= 1'b0;
                         bus_err   <= 1'b0;
