@@ -19,10 +19,11 @@
 //   on nx_fld (the length its next programmable phase will load), clamps
 //   it to the field's spec window unless `lab` is set (the window flags were
 //   taken when the word was written, by the core's twh_window), and hands
-//   it to that engine (dur_we, dur, dur_fld) two clocks later. An engine
-//   loads a length only when dur_fld names the field it needs, so a length
-//   is never taken from a stale fetch; a channel's field is fetched again
-//   within CHANNELS + 2 clocks of a change of its value or of nx_fld.
+//   it to that engine (dur_we, dur, dur_fld) two clocks later, three above
+//   one channel (a registered read address). An engine loads a length only
+//   when dur_fld names the field it needs, so a length is never taken from
+//   a stale fetch; a channel's field is fetched again within CHANNELS + 3
+//   clocks of a change of its value or of nx_fld.
 `default_nettype none
 `include "twh_defs.vh"
 module twh_timing #(
@@ -102,20 +103,40 @@ module twh_timing #(
     wire [2:0] f_fld = nx_fld[f_ch*3 +: 3];
     // fields 1-2 are TIMING0's, 3-4 TIMING1's, 5-6 TIMING2's
     wire [1:0] f_reg = (f_fld <= 3'd2) ? 2'd0 : (f_fld <= 3'd4) ? 2'd1 : 2'd2;
+    // The read address: above one channel a register of the field named
+    // (the channel multiplexer and the field decode are then off the path
+    // into the memory: ECP5's LUT RAM reads asynchronously, and that path
+    // was its three-channel critical path); one channel has no multiplexer
+    // and hands its length over two clocks after naming it, which is what
+    // lets a lab-short phase of one tick at 4 MHz go without waiting.
+    localparam [0:0] STAGE = (CHANNELS > 1);
+    reg  [2:0] a_ch_q, a_fld_q;
+    reg  [1:0] a_reg_q;
+    reg        a_ok_q;
+    always @(posedge clk) begin
+        a_ch_q  <= f_ch;
+        a_fld_q <= f_fld;
+        a_reg_q <= f_reg;
+        a_ok_q  <= !rst;
+    end
+    wire [2:0] a_ch  = STAGE ? a_ch_q  : f_ch;
+    wire [2:0] a_fld = STAGE ? a_fld_q : f_fld;
+    wire [1:0] a_reg = STAGE ? a_reg_q : f_reg;
+    wire       a_ok  = STAGE ? a_ok_q  : 1'b1;
     reg  [35:0] e_word;
     reg         e_written, e_ok;
     reg  [2:0]  e_ch, e_fld;
     always @(posedge clk) begin
         if (wr) mem_eng[wa] <= {wr_cmp, wr_data};
-        e_word <= mem_eng[{f_ch, f_reg}];
+        e_word <= mem_eng[{a_ch, a_reg}];
     end
     always @(posedge clk) begin
         if (rst || f_ch == LAST_CH)      f_ch <= 3'd0;
         else                             f_ch <= f_ch + 3'd1;
-        e_written <= written[{f_ch, f_reg}];
-        e_ok      <= !rst && f_fld != 3'd0 && f_fld <= 3'd6;
-        e_ch      <= f_ch;
-        e_fld     <= f_fld;
+        e_written <= written[{a_ch, a_reg}];
+        e_ok      <= !rst && a_ok && a_fld != 3'd0 && a_fld <= 3'd6;
+        e_ch      <= a_ch;
+        e_fld     <= a_fld;
     end
     wire [2:0]  e_fm1  = e_fld - 3'd1;             // {register, half}
     wire [35:0] e_val  = e_written ? e_word : {4'd0, def_word(e_fm1[2:1])};
@@ -265,17 +286,25 @@ module twh_timing #(
 
     // ---- every fetch hands its channel the field it named, clamped into
     // the field's window unless lab was set in the clock after the read
-    reg        f1_ok = 1'b0, f2_ok = 1'b0;
+    // (above one channel the read is a clock after the naming: f0_*)
+    reg        f0_ok = 1'b0, f1_ok = 1'b0, f2_ok = 1'b0;
     reg        f1_hit, f2_hit, f2_lab;
-    reg [2:0]  f1_ch, f1_fld, f2_ch, f2_fld;
+    reg [2:0]  f0_ch, f0_fld, f1_ch, f1_fld, f2_ch, f2_fld;
     // the value as of the read, and as a write in that clock leaves it
     // (a fetch that meets a write may take either)
     reg [31:0] f1_v, f2_v, f1_vn, f2_vn;
+    wire       r_ok  = STAGE ? f0_ok  : f_ok && !rst;   // a fetch reads now ...
+    wire [2:0] r_ch  = STAGE ? f0_ch  : f_ch;           // ... this channel's
+    wire [2:0] r_fld = STAGE ? f0_fld : f_fld;          // ... named field
+    wire [1:0] r_reg = (r_fld <= 3'd2) ? 2'd0 : (r_fld <= 3'd4) ? 2'd1 : 2'd2;
     always @(posedge clk) begin
-        f1_ok  <= f_ok && !rst;
-        f1_hit <= {f_ch, f_reg} == f_a;
-        f1_ch  <= f_ch;
-        f1_fld <= f_fld;
+        f0_ok  <= f_ok && !rst;
+        f0_ch  <= f_ch;
+        f0_fld <= f_fld;
+        f1_ok  <= r_ok && !rst;
+        f1_hit <= {r_ch, r_reg} == f_a;
+        f1_ch  <= r_ch;
+        f1_fld <= r_fld;
         f1_v   <= f_now;
         f1_vn  <= (wr && wa == f_a) ? wr_data : f_now;
         f2_ok  <= f1_ok && !rst;
@@ -303,6 +332,8 @@ module twh_timing #(
                                dur == f_clamp(f2_halfn, f2_fld, f2_lab));
         end
         if (PROG != 0 && f_ok && !f2_ok) assert(dur_we == {CHANNELS{1'b0}});
+        // the registered read address is the naming of a clock before
+        if (STAGE && f0_ok) assert(a_ch == f0_ch && a_fld == f0_fld && a_reg == r_reg && a_ok);
     end
     always @(posedge clk) begin
         if (f_ok && !rst)
