@@ -110,34 +110,47 @@ module twh_timing #(
     // and hands its length over two clocks after naming it, which is what
     // lets a lab-short phase of one tick at 4 MHz go without waiting.
     localparam [0:0] STAGE = (CHANNELS > 1);
-    reg  [2:0] a_ch_q, a_fld_q;
-    reg  [1:0] a_reg_q;
-    reg        a_ok_q;
-    always @(posedge clk) begin
-        a_ch_q  <= f_ch;
-        a_fld_q <= f_fld;
-        a_reg_q <= f_reg;
-        a_ok_q  <= !rst;
-    end
-    wire [2:0] a_ch  = STAGE ? a_ch_q  : f_ch;
-    wire [2:0] a_fld = STAGE ? a_fld_q : f_fld;
-    wire [1:0] a_reg = STAGE ? a_reg_q : f_reg;
-    wire       a_ok  = STAGE ? a_ok_q  : 1'b1;
     reg  [35:0] e_word;
     reg         e_written, e_ok;
     reg  [2:0]  e_ch, e_fld;
     always @(posedge clk) begin
-        if (wr) mem_eng[wa] <= {wr_cmp, wr_data};
-        e_word <= mem_eng[{a_ch, a_reg}];
-    end
-    always @(posedge clk) begin
         if (rst || f_ch == LAST_CH)      f_ch <= 3'd0;
         else                             f_ch <= f_ch + 3'd1;
-        e_written <= written[{a_ch, a_reg}];
-        e_ok      <= !rst && a_ok && a_fld != 3'd0 && a_fld <= 3'd6;
-        e_ch      <= a_ch;
-        e_fld     <= a_fld;
     end
+    generate
+        if (CHANNELS > 1) begin : g_stage
+            reg [2:0] a_ch, a_fld;
+            reg [1:0] a_reg;
+            reg       a_ok;
+            always @(posedge clk) begin
+                a_ch  <= f_ch;
+                a_fld <= f_fld;
+                a_reg <= f_reg;
+                a_ok  <= !rst;
+            end
+            always @(posedge clk) begin
+                if (wr) mem_eng[wa] <= {wr_cmp, wr_data};
+                e_word <= mem_eng[{a_ch, a_reg}];
+            end
+            always @(posedge clk) begin
+                e_written <= written[{a_ch, a_reg}];
+                e_ok      <= !rst && a_ok && a_fld != 3'd0 && a_fld <= 3'd6;
+                e_ch      <= a_ch;
+                e_fld     <= a_fld;
+            end
+        end else begin : g_direct
+            always @(posedge clk) begin
+                if (wr) mem_eng[wa] <= {wr_cmp, wr_data};
+                e_word <= mem_eng[{f_ch, f_reg}];
+            end
+            always @(posedge clk) begin
+                e_written <= written[{f_ch, f_reg}];
+                e_ok      <= !rst && f_fld != 3'd0 && f_fld <= 3'd6;
+                e_ch      <= f_ch;
+                e_fld     <= f_fld;
+            end
+        end
+    endgenerate
     wire [2:0]  e_fm1  = e_fld - 3'd1;             // {register, half}
     wire [35:0] e_val  = e_written ? e_word : {4'd0, def_word(e_fm1[2:1])};
     reg  [15:0] p_v;
@@ -332,9 +345,15 @@ module twh_timing #(
                                dur == f_clamp(f2_halfn, f2_fld, f2_lab));
         end
         if (PROG != 0 && f_ok && !f2_ok) assert(dur_we == {CHANNELS{1'b0}});
-        // the registered read address is the naming of a clock before
-        if (STAGE && f0_ok) assert(a_ch == f0_ch && a_fld == f0_fld && a_reg == r_reg && a_ok);
     end
+    // the registered read address is the naming of a clock before
+    generate
+        if (CHANNELS > 1) begin : g_f_stage
+            always @(*)
+                if (f0_ok) assert(g_stage.a_ch == f0_ch && g_stage.a_fld == f0_fld &&
+                                  g_stage.a_reg == r_reg && g_stage.a_ok);
+        end
+    endgenerate
     always @(posedge clk) begin
         if (f_ok && !rst)
             assert(f_ch == (($past(f_ch) == LAST_CH || $past(rst)) ? 3'd0 : $past(f_ch) + 3'd1));
