@@ -109,7 +109,6 @@ module twh_timing #(
     // was its three-channel critical path); one channel has no multiplexer
     // and hands its length over two clocks after naming it, which is what
     // lets a lab-short phase of one tick at 4 MHz go without waiting.
-    localparam [0:0] STAGE = (CHANNELS > 1);
     reg  [35:0] e_word;
     reg         e_written, e_ok;
     reg  [2:0]  e_ch, e_fld;
@@ -300,6 +299,7 @@ module twh_timing #(
     // ---- every fetch hands its channel the field it named, clamped into
     // the field's window unless lab was set in the clock after the read
     // (above one channel the read is a clock after the naming: f0_*)
+    localparam [0:0] STAGE = (CHANNELS > 1);
     reg        f0_ok = 1'b0, f1_ok = 1'b0, f2_ok = 1'b0;
     reg        f1_hit, f2_hit, f2_lab;
     reg [2:0]  f0_ch, f0_fld, f1_ch, f1_fld, f2_ch, f2_fld;
