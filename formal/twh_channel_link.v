@@ -28,6 +28,7 @@ module twh_link #(
     input  wire             clk,
     input  wire             rst,
     input  wire             tick,
+    input  wire             tick_nx,
     input  wire             fall,
     output wire [2:0]       nx_fld,
     input  wire             dur_we,
@@ -97,7 +98,7 @@ module twh_link #(
     assign line_oe = f_line_oe;
 
     // verilator lint_off UNUSEDSIGNAL
-    wire unused = &{1'b0, tick, fall, dur_we, dur_in, dur_fld_in, cfg_idle_charge, s_cmd_payload, line_i};
+    wire unused = &{1'b0, tick, tick_nx, fall, dur_we, dur_in, dur_fld_in, cfg_idle_charge, s_cmd_payload, line_i};
     // verilator lint_on UNUSEDSIGNAL
 endmodule
 `default_nettype wire

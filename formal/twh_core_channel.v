@@ -31,6 +31,7 @@ module twh_channel #(
     input  wire        rst,
     input  wire        ms_tick,
     input  wire        tick,
+    input  wire        tick_nx,
     input  wire        fall,
     input  wire        enable,
     input  wire        idle_charge,
@@ -128,7 +129,7 @@ module twh_channel #(
     assign line_oe     = f_line_oe;
 
     // verilator lint_off UNUSEDSIGNAL
-    wire unused = &{1'b0, ms_tick, tick, fall, enable, idle_charge, wdata, wdata_ok, wr_poll_ctrl,
+    wire unused = &{1'b0, ms_tick, tick, tick_nx, fall, enable, idle_charge, wdata, wdata_ok, wr_poll_ctrl,
                     dur_we, dur, dur_fld, slot_payload_i, line_i};
     // verilator lint_on UNUSEDSIGNAL
 endmodule

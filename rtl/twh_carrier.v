@@ -1,7 +1,10 @@
 // 1 MHz carrier timebase.
 //
 // Emits `tick` once per carrier period (the period that starts on the next
-// clock edge) and `fall` where that period's high half ends. Everything in
+// clock edge) and `fall` where that period's high half ends; `tick_nx` says
+// a clock ahead that `tick` comes next (unless reset is on), so a channel
+// can take its own registered copy, with its own enable in it, off the one
+// tick's routing. Everything in
 // the core counts these ticks, so "one microsecond" is one carrier period and
 // one UART bit is exactly 32 of them.
 //
@@ -21,7 +24,8 @@ module twh_carrier #(
     input  wire clk,
     input  wire rst,
     output reg  tick,
-    output reg  fall
+    output reg  fall,
+    output wire tick_nx     // tick is 1 in the next clock (with rst low now)
 );
     localparam integer P    = CLK_HZ / 1_000_000;     // clocks per period
     localparam integer FRAC = CLK_HZ % 1_000_000;     // Hz left over
@@ -52,6 +56,7 @@ module twh_carrier #(
     reg [CW-1:0] cnt;
     reg          stretch;   // this period gets one extra (low) clock
     reg [19:0]   acc;       // fractional MHz, in Hz
+    assign tick_nx = (cnt == {CW{1'b0}}) && !stretch;
 
     // The next accumulator value and whether it overflows one whole MHz.
     wire [20:0] acc_sum  = {1'b0, acc} + FRAC21;
@@ -132,6 +137,10 @@ module twh_carrier #(
     wire        f_stretched = stretch || (f_j == F_P);
     wire [20:0] f_acc_prev  = {1'b0, acc} - FRAC21
                               + (f_stretched ? 21'd1_000_000 : 21'd0);
+
+    reg f_pv = 1'b0;
+    always @(posedge clk) f_pv <= 1'b1;
+    always @(posedge clk) if (f_pv) assert(tick == $past(tick_nx && !rst));
 
     always @(*) begin
         if (f_ok) begin

@@ -21,6 +21,7 @@ module twh_channel #(
     input  wire        rst,
     input  wire        ms_tick,
     input  wire        tick,           // the carrier's timebase (twh_link)
+    input  wire        tick_nx,
     input  wire        fall,
     input  wire        enable,
     input  wire        idle_charge,
@@ -184,7 +185,7 @@ module twh_channel #(
     wire        e_is_poll = (POLLING != 0) && e_tag[5];
 
     twh_link #(.CLK_HZ(CLK_HZ), .TAG_W(6)) u_link (
-        .clk(clk), .rst(rst), .tick(tick), .fall(fall),
+        .clk(clk), .rst(rst), .tick(tick), .tick_nx(tick_nx), .fall(fall),
         .nx_fld(nx_fld), .dur_we(dur_we), .dur_in(dur), .dur_fld_in(dur_fld),
         .cfg_idle_charge(idle_charge),
         .s_cmd_valid(issue_q), .s_cmd_ready(eng_ready),

@@ -73,9 +73,9 @@ module twh_core #(
     // One carrier generator for the core: its tick starts every channel's
     // carrier period and counts microseconds for the poll timers; every
     // channel's engine steps on it, so all lines' carriers run in step.
-    wire us_tick, us_fall;
+    wire us_tick, us_tick_nx, us_fall;
     twh_carrier #(.CLK_HZ(CLK_HZ)) u_tick (
-        .clk(clk), .rst(rst), .tick(us_tick), .fall(us_fall)
+        .clk(clk), .rst(rst), .tick(us_tick), .tick_nx(us_tick_nx), .fall(us_fall)
     );
     reg [9:0] us_count;
     reg       ms_tick;
@@ -404,7 +404,8 @@ module twh_core #(
         for (n = 0; n < CHANNELS; n = n + 1) begin : g_ch
             wire sel = q_ch[n];
             twh_channel #(.CLK_HZ(CLK_HZ), .POLLING(POLLING)) u_ch (
-                .clk(clk), .rst(rst), .ms_tick(ms_tick), .tick(us_tick), .fall(us_fall),
+                .clk(clk), .rst(rst), .ms_tick(ms_tick), .tick(us_tick), .tick_nx(us_tick_nx),
+                .fall(us_fall),
                 .enable(enable), .idle_charge(idle_charge[n]),
                 .wdata(q_wdata), .wdata_ok(q_win_p),
                 .wr_poll_ctrl(sel && q_wp),

@@ -39,6 +39,7 @@ module twh_link #(
     // the carrier's timebase, from the core's one twh_carrier (every
     // channel's carrier and microsecond run in step)
     input  wire             tick,           // a carrier period starts
+    input  wire             tick_nx,        // ... in the next clock (unless reset)
     input  wire             fall,           // ... its high half ends
     // phase lengths (microseconds) from twh_timing
     output wire [2:0]       nx_fld,         // 1 charge .. 6 turnaround: needed next
@@ -90,7 +91,7 @@ module twh_link #(
     reg rx_en;
     always @(posedge clk) rx_en <= !rst && ph_oh[`TWH_PH_LISTEN];
     twh_rx u_rx (
-        .clk(clk), .rst(rst), .en(rx_en), .tick(tick), .env(env),
+        .clk(clk), .rst(rst), .en(rx_en), .tick(tick), .tick_nx(tick_nx), .env(env),
         .nbytes(rx_n), .bytes(rx_bytes), .started(rx_started),
         .frame_err(rx_frame_err)
     );
@@ -413,9 +414,10 @@ module twh_link #(
     // window, so they are compiled in only with TWH_F_LINK_PINS (4 MHz job).
     reg f_ok = 1'b0;
     always @(posedge clk) if (rst) f_ok <= 1'b1;
-    wire f_tick, f_fall;
-    twh_carrier #(.CLK_HZ(CLK_HZ)) f_timebase (.clk(clk), .rst(rst), .tick(f_tick), .fall(f_fall));
-    always @(*) assume(tick == f_tick && fall == f_fall);
+    wire f_tick, f_tick_nx, f_fall;
+    twh_carrier #(.CLK_HZ(CLK_HZ)) f_timebase (.clk(clk), .rst(rst), .tick(f_tick),
+                                               .tick_nx(f_tick_nx), .fall(f_fall));
+    always @(*) assume(tick == f_tick && tick_nx == f_tick_nx && fall == f_fall);
     // the previous clock ran after a reset and was no reset itself: $past
     // and the stream rules apply
     reg f_run = 1'b0;
@@ -634,9 +636,11 @@ module twh_link #(
         end
     end
 
-    // the receiver's input contract (twh_rx): no tick in two clocks
-    // running, and at a tick its enable is as a clock before, or 0 after
-    // a reset
+    // the receiver's input contract (twh_rx): tick_nx says a tick a clock
+    // ahead, no tick in two clocks running, and at a tick its enable is as
+    // a clock before, or 0 after a reset
+    always @(posedge clk)
+        if (f_ok) assert(tick == $past(tick_nx && !rst));
     always @(posedge clk)
         if (f_ok && tick) assert(!$past(tick) && rx_en == ($past(rx_en) && !$past(rst)));
 

@@ -15,17 +15,22 @@
 //   the answer counts as short, not as a framing error.
 // - 30.75-31.75 kbps: after 9.5 bits the sampling drift is at most ~5 us.
 // Clearing `en` (outside the listen phase) clears everything.
-// Input contract (twh_link keeps it, and its proof checks it): a tick never
-// comes in two clocks running, and at a tick `en` is what it was a clock
-// before, or 0 if reset was on then. So whether a tick steps the receiver
-// (`go`: en and not done) is a flip-flop taken a clock ahead, and the
-// core's one tick, routed to every channel, meets it in the first LUT.
+// Input contract (twh_link keeps it, and its proof checks it): `tick_nx`
+// says a clock ahead that `tick` comes (twh_carrier's), a tick never comes
+// in two clocks running, and at a tick `en` is what it was a clock before,
+// or 0 if reset was on then. So whether a tick steps the receiver (`step`:
+// a tick, en and not done) is this receiver's own flip-flop, taken a clock
+// ahead: the core's one tick, routed to every channel, is off every path
+// in here (it was the HX8K's three-channel critical path).
 `default_nettype none
 module twh_rx (
     input  wire        clk,
     input  wire        rst,
     input  wire        en,
-    input  wire        tick,
+    // verilator lint_off UNUSEDSIGNAL
+    input  wire        tick,        // the proofs' (the logic takes step from tick_nx)
+    // verilator lint_on UNUSEDSIGNAL
+    input  wire        tick_nx,
     input  wire        env,
     output reg  [1:0]  nbytes,      // complete bytes received (0-3)
     output reg  [23:0] bytes,       // received bytes, first in [23:16]
@@ -67,12 +72,12 @@ module twh_rx (
     // an idle receiver does no work in simulation.
     reg  en_q;
     wire clr = rst || (en_q && !en);
-    // en && !done a clock ago: done moves only at a tick, en not in the
-    // clock before one (the contract), so at every tick go is en && !done
-    reg  go;
+    // tick && en && !done, taken a clock ahead: done moves only at a tick,
+    // en not in the clock before one (the contract)
+    reg  step;
     always @(posedge clk) begin
         en_q <= !rst && en;
-        go   <= !rst && en && !done;
+        step <= !rst && tick_nx && en && !done;
         if (clr) begin
             nbytes    <= 2'd0;
             bytes     <= 24'd0;
@@ -93,7 +98,7 @@ module twh_rx (
             chk_data  <= 1'b0;
             chk_stop  <= 1'b0;
             at_end    <= 1'b0;
-        end else if (tick && go) begin
+        end else if (step) begin
             if (!env)                mark <= 5'd0;
             else if (!mark_full)     mark <= mark + 1'b1;
             mark_full <= env && (mark_full || mark == 5'd15);
@@ -157,9 +162,11 @@ module twh_rx (
     always @(posedge clk)
         if (f_ok && f_past_valid && tick)
             assume(!$past(tick) && en == ($past(en) && !$past(rst)));
+    always @(posedge clk)
+        if (f_ok && f_past_valid) assume(tick == $past(tick_nx && !rst));
     // ... under which the flip-flop is the enable it stands for
     always @(posedge clk)
-        if (f_ok && f_past_valid && tick) assert(go == (en && !done));
+        if (f_ok && f_past_valid) assert(step == (tick && en && !done));
 
     // Consecutive mark ticks since en (saturating at 16), and whether 16
     // of them were seen before some tick: what a first start needs.

@@ -52,11 +52,12 @@ module tb_link_smoke;
     );
 
     // the carrier's timebase, as the core's one twh_carrier gives it
-    wire tick, fall;
-    twh_carrier #(.CLK_HZ(CLK_HZ)) u_carrier (.clk(clk), .rst(rst), .tick(tick), .fall(fall));
+    wire tick, tick_nx, fall;
+    twh_carrier #(.CLK_HZ(CLK_HZ)) u_carrier (.clk(clk), .rst(rst), .tick(tick), .tick_nx(tick_nx),
+                                              .fall(fall));
 
     twh_link #(.CLK_HZ(CLK_HZ), .TAG_W(8)) dut (
-        .clk(clk), .rst(rst), .tick(tick), .fall(fall),
+        .clk(clk), .rst(rst), .tick(tick), .tick_nx(tick_nx), .fall(fall),
         .nx_fld(nx_fld), .dur_we(dur_we), .dur_in(dur), .dur_fld_in(dur_fld),
         .cfg_idle_charge(1'b0),
         .s_cmd_valid(s_cmd_valid), .s_cmd_ready(s_cmd_ready),
