@@ -109,6 +109,9 @@ module twh_timing #(
     // was its three-channel critical path); one channel has no multiplexer
     // and hands its length over two clocks after naming it, which is what
     // lets a lab-short phase of one tick at 4 MHz go without waiting.
+    // The read stage is written out in both branches: with the address as
+    // a wire chosen by CHANNELS the one-channel netlist came out a dozen
+    // LUTs larger (Yosys 0.70), where this keeps it the direct fetch's own.
     reg  [35:0] e_word;
     reg         e_written, e_ok;
     reg  [2:0]  e_ch, e_fld;
