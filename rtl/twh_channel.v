@@ -151,7 +151,10 @@ module twh_channel #(
             end else if (taken && !use_poll_q) begin
                 slot_full    <= 1'b0;
             end
-            if (cancel && slot_full && !(taken && !use_poll_q)) slot_skip <= `TWH_ST_CANCELLED;
+            // (a slot is loaded only while empty; one taken in this clock
+            // is marked too: it is empty next clock, and a load writes its
+            // skip afresh)
+            if (cancel && slot_full) slot_skip <= `TWH_ST_CANCELLED;
             if (taken) prefer_poll <= !use_poll_q;
 
             if (!poll_en) begin

@@ -182,6 +182,9 @@ module twh_core #(
     reg        q_push_ch;        // q_push naming an existing channel: the FIFO's push
                                  // waits for the full flag alone (ECP5's critical path)
     reg [8:0]  q_addr;
+    reg [2:0]  q_blk;            // q_addr[8:5] - 2: the channel block, taken on the
+                                 // way in (the subtraction was in front of the bus
+                                 // copy's LUT RAM read address, ECP5's path)
     reg [31:0] q_wdata;
     wire       res_valid_next;   // the result FIFO's !empty of the next clock
     always @(posedge clk) if (i_load) begin
@@ -191,6 +194,7 @@ module twh_core #(
         q_we       <= reg_we;
         q_full     <= (reg_wstrb == 4'hF);
         q_addr     <= reg_addr;
+        q_blk      <= i_blk[2:0];
         q_wdata    <= reg_wdata;
         q_cmp      <= i_cmp;
         q_cmp_nz   <= (i_cmp != 4'd0);
@@ -388,7 +392,6 @@ module twh_core #(
     // twh_timing is written and read by the request stage, like every other
     // register (a read and a write are never in it together); its word
     // comes out of the block RAM's register in the answer's clock
-    wire [2:0]  q_blk = q_addr[7:5] - 3'd2;      // q_addr[8:5] - 2 of a channel block
     wire [1:0]  q_treg = q_addr[3:2];            // TIMING0-2 of a channel block
     wire        t_wr  = q_wr_t && t_take;        // a timing write taken
     twh_timing #(.CHANNELS(CHANNELS), .PROG(PROG_TIMING)) u_timing (
@@ -464,68 +467,86 @@ module twh_core #(
                          (push_status <= `TWH_ST_LINE_STUCK_HIGH);
     wire [7:0] sample8, busy8;
 
+    // One block per group of registers, each loaded on its own strobes: a
+    // shared "anything to do" guard in front of them all was a wide OR on
+    // every one of their enables (ECP5's three-channel critical path).
     always @(posedge clk) begin
         if (rst) begin
-            enable          <= 1'b1;
-            flush_left      <= {LW{1'b0}};
-            flushing        <= 1'b0;
-            lab             <= 1'b0;
-            factory_armed   <= 1'b0;
-            idle_charge     <= 8'd0;
-            ie_result       <= 1'b0;
-            ie_error        <= 1'b0;
-            ie_poll         <= 1'b0;
-            res_threshold   <= 8'd1;
+            enable      <= 1'b1;
+            idle_charge <= 8'd0;
+        end else if (q_ctrl) begin
+            enable      <= q_wdata[0];
+            idle_charge <= q_wdata[15:8];
+        end
+    end
+    // A flush cancels exactly the commands queued when it is written;
+    // commands pushed after it run normally.
+    always @(posedge clk) begin
+        if (rst) begin
+            flush_left <= {LW{1'b0}};
+            flushing   <= 1'b0;
+        end else if (q_flush) begin
+            flush_left <= flush_new;
+            flushing   <= flush_new_nz;
+        end else if (dispatch && flushing) begin
+            flush_left <= flush_left - 1'b1;
+            flushing   <= (flush_left != {{(LW-1){1'b0}}, 1'b1});
+        end
+    end
+    always @(posedge clk) begin
+        if (rst) begin
+            ie_result     <= 1'b0;
+            ie_error      <= 1'b0;
+            ie_poll       <= 1'b0;
+            res_threshold <= 8'd1;
+        end else if (q_irq_en) begin
+            ie_result     <= q_wdata[0];
+            ie_error      <= q_wdata[1];
+            ie_poll       <= q_wdata[2];
+            res_threshold <= q_wdata[15:8];
+        end
+    end
+    // the lab unlock only lets timing out of its windows: a build with
+    // fixed timing has none
+    always @(posedge clk) begin
+        if (rst)            lab <= 1'b0;
+        else if (q_lab_key) lab <= q_key_lab && PROG_TIMING != 0;
+    end
+    always @(posedge clk) begin
+        if (rst || push_ok)  factory_armed <= 1'b0;        // the next command only
+        else if (q_fact_key) factory_armed <= q_key_fact;
+    end
+    // A command dispatched as BLOCKED (h_skip) sets BLOCKED a clock later,
+    // from a flip-flop: the dispatch's terms were ECP5's path into the
+    // error register. Its result is several clocks behind it still.
+    reg disp_blk_err;
+    always @(posedge clk)
+        disp_blk_err <= !rst && dispatch && disp_blk && !flushing && !flush_wr;
+    // hardware sets win over a clear in the same clock
+    always @(posedge clk) begin
+        if (rst) begin
             err_overflow    <= 1'b0;
             err_refused     <= 1'b0;
             err_blocked     <= 1'b0;
             err_bad_channel <= 1'b0;
             err_link        <= 1'b0;
-            poll_ready      <= 8'd0;
-        end else if (q_req || dispatch || push_link_err || c_poll_err != 0 || sample8 != 0) begin
-            // (nothing below acts without one of these: the strobes are 0
-            // between requests)
-            // A flush cancels exactly the commands queued when it is written;
-            // commands pushed after it run normally.
-            if (dispatch && flushing) begin
-                flush_left <= flush_left - 1'b1;
-                flushing   <= (flush_left != {{(LW-1){1'b0}}, 1'b1});
-            end
-            if (q_ctrl) begin
-                enable      <= q_wdata[0];
-                if (q_wdata[1]) begin
-                    flush_left <= flush_new;
-                    flushing   <= flush_new_nz;
-                end
-                idle_charge <= q_wdata[15:8];
-            end
-            if (q_errors) begin
-                if (q_wdata[0]) err_overflow    <= 1'b0;
-                if (q_wdata[1]) err_refused     <= 1'b0;
-                if (q_wdata[2]) err_blocked     <= 1'b0;
-                if (q_wdata[3]) err_bad_channel <= 1'b0;
-                if (q_wdata[4]) err_link        <= 1'b0;
-            end
-            if (q_irq_en) begin
-                ie_result     <= q_wdata[0];
-                ie_error      <= q_wdata[1];
-                ie_poll       <= q_wdata[2];
-                res_threshold <= q_wdata[15:8];
-            end
-            // the lab unlock only lets timing out of its windows: a build
-            // with fixed timing has none
-            if (q_lab_key)  lab           <= q_key_lab && PROG_TIMING != 0;
-            if (q_fact_key) factory_armed <= q_key_fact;
-            if (push_ok) factory_armed <= 1'b0;        // the next command only
-            // hardware sets win over a clear in the same clock
-            if (push_req && cmd_full && !push_bad_ch) err_overflow <= 1'b1;
-            if (push_req && push_bad_ch)              err_bad_channel <= 1'b1;
-            if (refused)                              err_refused <= 1'b1;
-            if (dispatch && disp_blk && !flushing && !flush_wr) err_blocked <= 1'b1;   // h_skip BLOCKED
-            if (push_link_err || |c_poll_err)         err_link <= 1'b1;
-            poll_ready <= ((q_poll_ready) ? (poll_ready & ~q_wdata[7:0])
-                                                                  : poll_ready) | sample8;
+        end else begin
+            if ((q_errors && q_wdata[0]) || (push_req && cmd_full && !push_bad_ch))
+                err_overflow    <= push_req && cmd_full && !push_bad_ch;
+            if ((q_errors && q_wdata[1]) || refused)
+                err_refused     <= refused;
+            if ((q_errors && q_wdata[2]) || disp_blk_err)
+                err_blocked     <= disp_blk_err;
+            if ((q_errors && q_wdata[3]) || (push_req && push_bad_ch))
+                err_bad_channel <= push_req && push_bad_ch;
+            if ((q_errors && q_wdata[4]) || push_link_err || |c_poll_err)
+                err_link        <= push_link_err || |c_poll_err;
         end
+    end
+    always @(posedge clk) begin
+        if (rst)                              poll_ready <= 8'd0;
+        else if (q_poll_ready || sample8 != 0)
+            poll_ready <= (q_poll_ready ? (poll_ready & ~q_wdata[7:0]) : poll_ready) | sample8;
     end
 
     // ------------------------------------------------------------ reads
@@ -580,13 +601,17 @@ module twh_core #(
                 | ({32{q_r_cr[r_n*3 + 2]}} & c_st[r_n*32 +: 32]);
     end
 
-    reg [31:0] rdata_q;
+    // the answer in two registers, the global registers' and the channels'
+    // (one OR level after them rather than in front: with every channel's
+    // terms in one OR tree the read was ECP5's three-channel path)
+    reg [31:0] rdata_q, rdata_c_q;
     reg        t_rd_q;           // the answer is a TIMING0-2 read
     always @(posedge clk) begin
         if (rst) begin
             reg_ack   <= 1'b0;
             reg_err   <= 1'b0;
             rdata_q   <= 32'd0;
+            rdata_c_q <= 32'd0;
             t_rd_q    <= 1'b0;
         end else begin
             reg_ack   <= q_req;
@@ -594,12 +619,13 @@ module twh_core #(
                                      (push_req && (push_bad_ch || cmd_full)));
             // between answers the read selects are 0, and so are these
             if (q_req || reg_ack) begin
-                rdata_q <= g_rdata | c_rdata;
+                rdata_q   <= g_rdata;
+                rdata_c_q <= c_rdata;
                 t_rd_q  <= q_r_t;
             end
         end
     end
-    assign reg_rdata = rdata_q | ({32{t_rd_q}} & t_rdata);
+    assign reg_rdata = rdata_q | rdata_c_q | ({32{t_rd_q}} & t_rdata);
 
 `ifdef FORMAL
     // ================================================================ formal
@@ -640,7 +666,7 @@ module twh_core #(
         assert({q_ctrl, q_flush, q_errors, q_irq_en, q_poll_ready, q_push, q_push_ch,
                 q_pop, q_lab_key, q_fact_key} == 0);
     end
-    always @(*) if (f_rs && !reg_ack) assert(rdata_q == 32'd0 && !t_rd_q);
+    always @(*) if (f_rs && !reg_ack) assert(rdata_q == 32'd0 && rdata_c_q == 32'd0 && !t_rd_q);
     wire [15:0] f_lo = q_wdata[15:0], f_hi = q_wdata[31:16];
     wire [7:0]  f_c  = q_wdata[7:0];
     reg         f_cw_ok;
@@ -797,6 +823,7 @@ module twh_core #(
     (* keep *) wire          f_cf_ov;              // u_cmd_fifo.out_valid
     (* keep *) wire          f_cf_me;              // u_cmd_fifo.mem_empty
     (* keep *) wire [F_AW:0] f_cf_rp1;             // u_cmd_fifo.rd_ptr_p1
+    (* keep *) wire          f_cf_top, f_cf_one;   // u_cmd_fifo.top_r, one_r
     wire [33*FIFO_DEPTH-1:0] f_cf_mem;
     genvar f_i;
     generate
@@ -810,6 +837,7 @@ module twh_core #(
     (* keep *) wire [F_AW:0] f_rf_wr, f_rf_rd;     // u_res_fifo.wr_ptr, rd_ptr
     (* keep *) wire          f_rf_ov, f_rf_me;     // u_res_fifo.out_valid, mem_empty
     (* keep *) wire [F_AW:0] f_rf_rp1;             // u_res_fifo.rd_ptr_p1
+    (* keep *) wire          f_rf_top, f_rf_one;   // u_res_fifo.top_r, one_r
     wire [F_AW:0] f_rf_n = f_rf_wr - f_rf_rd;
 
     // per-channel state widened to 8 channels
@@ -958,6 +986,10 @@ module twh_core #(
             // the FIFO's own flags (its proof has them too)
             assert(f_cf_me == (f_cf_wr == f_cf_rd) && f_cf_rp1 == f_cf_rd + 1'b1);
             assert(cmd_full == (cmd_level == F_DEPTH));
+            assert(f_cf_top == (cmd_level == F_DEPTH - 1'b1) &&
+                   f_cf_one == (cmd_level == {{(LW-1){1'b0}}, 1'b1}));
+            assert(f_rf_top == (res_level == F_DEPTH - 1'b1) &&
+                   f_rf_one == (res_level == {{(LW-1){1'b0}}, 1'b1}));
             // every queued command names a channel that exists (the push
             // refuses the others), so a dispatch always lands in a slot
             if (f_cf_ov) assert({1'b0, cmd_head[26:24]} < CH_COUNT);

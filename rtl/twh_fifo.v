@@ -24,7 +24,13 @@ module twh_fifo #(
 );
     localparam integer AW = $clog2(DEPTH);
     localparam integer LW = $clog2(DEPTH + 1);
-    localparam [LW-1:0] DEPTH_L = DEPTH[LW-1:0];
+    // verilator lint_off UNUSEDPARAM
+    localparam [LW-1:0] DEPTH_L = DEPTH[LW-1:0];   // the proofs'
+    // verilator lint_on UNUSEDPARAM
+    localparam integer  DM2_I    = DEPTH - 2;
+    localparam [LW-1:0] DEPTH_M2 = DM2_I[LW-1:0];
+    localparam integer  TWO_I    = 2;
+    localparam [LW-1:0] TWO_L    = TWO_I[LW-1:0];
 
     generate
         if ((1 << AW) != DEPTH || DEPTH < 2) begin : g_bad_depth
@@ -48,6 +54,11 @@ module twh_fifo #(
     // user's critical path.
     reg [LW-1:0] level_r;
     reg          full_r, vacant_r;
+    // level_r == DEPTH - 1 and level_r == 1, flags that move with it: full
+    // and vacant then wait for the push, the pop and one flag, with no
+    // compare behind the push (ECP5's path into the full flag); each flag's
+    // own compare is of the level as it stands, beside the push decode
+    reg          top_r, one_r;
     // "the RAM holds no word" is a flag, not a pointer compare: it gates
     // the RAM's read enable and the output register, and a compare there is
     // the slowest path of the core on an iCE40 UP5K. rd_ptr_p1 = rd_ptr + 1
@@ -84,15 +95,24 @@ module twh_fifo #(
             level_r   <= {LW{1'b0}};
             full_r    <= 1'b0;
             vacant_r  <= 1'b1;
+            top_r     <= 1'b0;             // DEPTH is at least 2
+            one_r     <= 1'b0;
         end else begin
             if (do_push && !do_pop)      level_r <= level_up;
             else if (do_pop && !do_push) level_r <= level_dn;
             // from the level as it stands, not through the adder: a full
             // FIFO takes no push, so only a pop ends it
             if (full_r) full_r <= !do_pop;
-            else        full_r <= do_push && !do_pop && (level_r == DEPTH_L - 1'b1);
-            if (do_push && !do_pop)      vacant_r <= 1'b0;
-            else if (do_pop && !do_push) vacant_r <= (level_r == {{(LW-1){1'b0}}, 1'b1});
+            else        full_r <= do_push && !do_pop && top_r;
+            if (do_push && !do_pop) begin
+                vacant_r <= 1'b0;
+                top_r    <= (level_r == DEPTH_M2);
+                one_r    <= vacant_r;
+            end else if (do_pop && !do_push) begin
+                vacant_r <= one_r;
+                top_r    <= full_r;
+                one_r    <= (level_r == TWO_L);
+            end
             if (do_push) wr_ptr <= wr_ptr + 1'b1;
             if (load) begin
                 rd_ptr    <= rd_ptr_p1;
@@ -130,6 +150,8 @@ module twh_fifo #(
             assert(level == f_count);
             assert(full == (f_count == DEPTH_L));
             assert(vacant == (f_count == {LW{1'b0}}));
+            assert(top_r == (level_r == DEPTH_L - 1'b1));
+            assert(one_r == (level_r == {{(LW-1){1'b0}}, 1'b1}));
             // a full FIFO drops the push, an empty one ignores the pop
             assert(do_push == f_push);
             assert(do_pop == f_pop);

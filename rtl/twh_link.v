@@ -113,7 +113,10 @@ module twh_link #(
 
     // ------------------------------------------------------------ command
     reg              pending;
-    reg              pend_q;     // pending a clock ago too: tx_psum is current
+    // verilator lint_off UNUSEDSIGNAL
+    reg              pend_q;     // pending a clock ago too (the proofs': adv starts
+                                 // a command pending in the clock before the tick)
+    // verilator lint_on UNUSEDSIGNAL
     reg [7:0]        cmd_r;
     reg [TAG_W-1:0]  tag_r;
     reg [15:0]       pay_r;
@@ -127,8 +130,9 @@ module twh_link #(
     // The checksum over two clocks, one adder each (the code and the low
     // payload byte first, then the high one and the complement), so no
     // adder chain sits on one clock's path. The command stays put from its
-    // accept to its result, and the charge waits for pend_q (pending a
-    // clock already), so chk_r is current for the whole transaction.
+    // accept to its result, and the charge starts only with a command
+    // pending in the clock before its tick (adv), two clocks after the
+    // accept at the least, so chk_r is current for the whole transaction.
     reg  [7:0] tx_psum;
     wire [7:0] tx_chk;
     // (the three stages run from an accept to the end of the transaction:
@@ -194,12 +198,14 @@ module twh_link #(
     assign nx_fld = nx_fld_r;
     wire [7:0] ph_oh_nx = {ph_oh[6:0], ph_oh[7]};   // the phase after this one
     reg [2:0] dur_fld;      // the field dur_next holds (0: none yet)
-    // dur_ok: dur_next holds the field needed. Registered, off the path into
-    // the phase registers, and exact: it is taken from dur_fld as it will
-    // be, and nx_fld changes only in a tick's clock, after which it reads 0
-    // for a clock (ticks are at least four clocks apart, so this never
-    // delays a phase).
+    // dur_ok: dur_next holds the field needed, exact at a tick: it is taken
+    // from dur_fld as it will be, and nx_fld changes only in a tick's clock,
+    // after which it reads 0 for a clock. The sequencer takes the same
+    // compare a clock before the tick (dok_nx, into adv); dur_ok is the
+    // proofs' statement of it.
+    // verilator lint_off UNUSEDSIGNAL
     reg dur_ok;
+    // verilator lint_on UNUSEDSIGNAL
     always @(posedge clk) begin
         if (rst) begin
             dur_fld <= 3'd0;
@@ -255,6 +261,24 @@ module twh_link #(
         rx_status_q  <= rx_status;
         rx_data_ok_q <= rx_data_ok;
     end
+    // lis_end: this clock's tick ends the listen phase, taken a clock ahead
+    // from tick_nx (the phase, `last` and the length's field do not change
+    // in the clock before a tick, and dur_ok's next value is the one it
+    // takes there), so the result registers load on one flip-flop rather
+    // than behind the tick's decode (ECP5's three-channel critical path)
+    // In the same way the sequencer's two moves at a tick: adv, the phase
+    // ends (from idle: a pending command, a clock old, starts); dec, the
+    // count steps down. Pending at the tick with pend_q is pending in the
+    // clock before it.
+    wire dok_nx = (dur_we ? dur_fld_in : dur_fld) == nx_fld;
+    reg lis_end, adv, dec;
+    always @(posedge clk) begin
+        lis_end <= !rst && tick_nx && ph_oh[`TWH_PH_LISTEN] && last && dok_nx;
+        adv     <= !rst && tick_nx && last &&
+                   (ph_oh[`TWH_PH_IDLE] ? pending && dok_nx
+                                        : ph_oh[`TWH_PH_PREAMBLE] || ph_oh[`TWH_PH_TURNAROUND] || dok_nx);
+        dec     <= !rst && tick_nx && !last;
+    end
 
     always @(posedge clk) begin
         if (rst) begin
@@ -304,6 +328,12 @@ module twh_link #(
                 end
             end
 
+            if (lis_end) begin
+                m_res_valid  <= 1'b1;
+                m_res_status <= rx_status_q;
+                m_res_data   <= rx_data_ok_q ? rx_bytes[23:8] : 16'd0;
+            end
+
             // a new UART bit starts every 32 periods of the command; bit_end
             // is never set in a phase's last period, nor outside the command
             if (tick && bit_end) begin
@@ -318,35 +348,22 @@ module twh_link #(
             if (tick) begin
                 if (ph_oh[`TWH_PH_SYNC] && !env)     saw_low  <= 1'b1;
                 if (ph_oh[`TWH_PH_PREAMBLE] && env)  saw_high <= 1'b1;
-
+            end
+            // (in idle the count runs the post-reset hold-off)
+            if (dec) cnt <= cnt - 1'b1;
+            if (adv) begin
+                ph       <= ph + 1'b1;      // phases run in code order, idle's code 0 after turnaround's 7
+                ph_oh    <= ph_oh_nx;
+                nx_fld_r <= fld_next(ph_oh_nx);
+                cnt      <= fixed_len ? fixed_cnt : dur_next;
                 if (ph_oh[`TWH_PH_IDLE]) begin
-                    if (!last) begin
-                        cnt <= cnt - 1'b1;           // post-reset hold-off
-                    end else if (pending && pend_q && dur_ok) begin
-                        pending  <= 1'b0;
-                        ph       <= `TWH_PH_CHARGE;
-                        ph_oh    <= ph_oh_nx;
-                        nx_fld_r <= fld_next(ph_oh_nx);
-                        cnt      <= dur_next;
-                        saw_low  <= 1'b0;
-                        saw_high <= 1'b0;
-                    end
-                end else if (!last) begin
-                    cnt <= cnt - 1'b1;
-                end else if (ph_oh[`TWH_PH_PREAMBLE] || ph_oh[`TWH_PH_TURNAROUND] || dur_ok) begin
-                    ph       <= ph + 1'b1;           // phases run in code order
-                    ph_oh    <= ph_oh_nx;
-                    nx_fld_r <= fld_next(ph_oh_nx);
-                    cnt   <= fixed_len ? fixed_cnt : dur_next;
-                    if (ph_oh[`TWH_PH_PREAMBLE]) begin
-                        bitn  <= 4'd0;
-                        byten <= 2'd0;
-                    end
-                    if (ph_oh[`TWH_PH_LISTEN]) begin
-                        m_res_valid  <= 1'b1;
-                        m_res_status <= rx_status_q;
-                        m_res_data   <= rx_data_ok_q ? rx_bytes[23:8] : 16'd0;
-                    end
+                    pending  <= 1'b0;
+                    saw_low  <= 1'b0;
+                    saw_high <= 1'b0;
+                end
+                if (ph_oh[`TWH_PH_PREAMBLE]) begin
+                    bitn  <= 4'd0;
+                    byten <= 2'd0;
                 end
             end
         end
@@ -651,6 +668,13 @@ module twh_link #(
             if (f_leave && f_fld_of(f_nph) != 3'd0) assert(dur_fld == f_fld_of(f_nph));
             // ... and the flag that lets it start is exact
             if (dur_ok) assert(dur_fld == nx_fld);
+            // the listen's end is the tick that leaves it
+            assert(lis_end == (tick && ph_oh[`TWH_PH_LISTEN] && last && dur_ok));
+            assert(adv == (tick && last &&
+                           (ph_oh[`TWH_PH_IDLE] ? pending && pend_q && dur_ok
+                                                : ph_oh[`TWH_PH_PREAMBLE] ||
+                                                  ph_oh[`TWH_PH_TURNAROUND] || dur_ok)));
+            assert(dec == (tick && !last));
             // with lengths delivered as twh_timing does for one channel, a
             // phase never waits for its length (f_leave is taken at the
             // last tick, whatever dur_ok says)

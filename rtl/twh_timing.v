@@ -156,14 +156,19 @@ module twh_timing #(
     wire [2:0]  e_fm1  = e_fld - 3'd1;             // {register, half}
     wire [35:0] e_val  = e_written ? e_word : {4'd0, def_word(e_fm1[2:1])};
     reg  [15:0] p_v;
-    reg         p_b, p_a, p_ok;
-    reg  [2:0]  p_ch, p_fld;
+    reg         p_b, p_a;
+    reg  [2:0]  p_fld;
+    // which engine the length is for, one-hot (the channel decoded on the
+    // way in): each engine compares the field it is handed with the one it
+    // needs in the clock it comes (ECP5's path from here into its next move)
+    localparam integer ONE_I = 1;
+    localparam [CHANNELS-1:0] ONE = ONE_I[CHANNELS-1:0];
+    reg  [CHANNELS-1:0] p_we;
     always @(posedge clk) begin
         p_v   <= e_fm1[0] ? e_val[31:16] : e_val[15:0];
         p_b   <= !lab && (e_fm1[0] ? e_val[34] : e_val[32]);
         p_a   <= !lab && (e_fm1[0] ? e_val[35] : e_val[33]);
-        p_ok  <= !rst && e_ok;
-        p_ch  <= e_ch;
+        p_we  <= (!rst && e_ok) ? ONE << e_ch : {CHANNELS{1'b0}};
         p_fld <= e_fld;
     end
     reg [15:0] w_lo, w_hi;
@@ -177,12 +182,10 @@ module twh_timing #(
             default: begin w_lo = `TWH_TURNAROUND_MIN; w_hi = `TWH_US_MAX;       end
         endcase
     end
-    localparam integer ONE_I = 1;
-    localparam [CHANNELS-1:0] ONE = ONE_I[CHANNELS-1:0];
     wire [31:0] fx_word = def_word(f_reg);
     always @(*) begin
         if (PROG != 0) begin
-            dur_we  = {CHANNELS{p_ok}} & (ONE << p_ch);
+            dur_we  = p_we;
             dur     = p_b ? w_lo : p_a ? w_hi : p_v;
             dur_fld = p_fld;
         end else begin
