@@ -25,7 +25,7 @@ module twh_carrier #(
     input  wire rst,
     output reg  tick,
     output reg  fall,
-    output wire tick_nx     // tick is 1 in the next clock (with rst low now)
+    output reg  tick_nx     // tick is 1 in the next clock (with rst low now)
 );
     localparam integer P    = CLK_HZ / 1_000_000;     // clocks per period
     localparam integer FRAC = CLK_HZ % 1_000_000;     // Hz left over
@@ -35,6 +35,8 @@ module twh_carrier #(
     localparam integer FALL_AT_I = P - H;
     localparam [CW-1:0] LOAD    = LOAD_I[CW-1:0];
     localparam [CW-1:0] FALL_AT = FALL_AT_I[CW-1:0];
+    localparam integer  ONE_I   = 1;
+    localparam [CW-1:0] ONE     = ONE_I[CW-1:0];
     localparam [20:0]   FRAC21  = FRAC[20:0];
 
     // Elaboration checks: an unknown module names the problem.
@@ -56,7 +58,13 @@ module twh_carrier #(
     reg [CW-1:0] cnt;
     reg          stretch;   // this period gets one extra (low) clock
     reg [19:0]   acc;       // fractional MHz, in Hz
-    assign tick_nx = (cnt == {CW{1'b0}}) && !stretch;
+    // tick_nx is "cnt is 0 and no stretch", a register taken a clock ahead:
+    // cnt reaches 0 from 1 (stretch as it is), or stays at 0 for the
+    // stretch's extra clock, or starts there after reset. Every channel's
+    // early-tick registers then start from it, not from the compare (ECP5's
+    // three-channel path ran through it).
+    always @(posedge clk)
+        tick_nx <= rst || (cnt == ONE && !stretch) || (cnt == {CW{1'b0}} && stretch);
 
     // The next accumulator value and whether it overflows one whole MHz.
     wire [20:0] acc_sum  = {1'b0, acc} + FRAC21;
@@ -70,13 +78,12 @@ module twh_carrier #(
             tick    <= 1'b0;
             fall    <= 1'b0;
         end else begin
-            tick <= 1'b0;
+            tick <= tick_nx;
             fall <= (cnt == FALL_AT);
             if (cnt == {CW{1'b0}}) begin
                 if (stretch) begin
                     stretch <= 1'b0;          // hold zero one more clock
                 end else begin
-                    tick <= 1'b1;
                     cnt  <= LOAD;
                     if (FRAC != 0) begin
                         stretch <= acc_wrap;
@@ -141,6 +148,14 @@ module twh_carrier #(
     reg f_pv = 1'b0;
     always @(posedge clk) f_pv <= 1'b1;
     always @(posedge clk) if (f_pv) assert(tick == $past(tick_nx && !rst));
+    // (from any state a clock back, reset or not) ...
+    always @(*) if (f_pv) assert(tick_nx == ((cnt == {CW{1'b0}}) && !stretch));
+    // ... so a tick comes with the count just loaded: ticks are a whole
+    // period apart (tick is tick_nx's register, and the proofs of the
+    // engines that count ticks need this as an invariant of every state;
+    // tick_nx starts at 0 here so that it holds from the first clock)
+    initial tick_nx = 1'b0;
+    always @(*) if (f_pv) assert(!tick || cnt == LOAD);
 
     always @(*) begin
         if (f_ok) begin

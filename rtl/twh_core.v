@@ -824,6 +824,8 @@ module twh_core #(
     (* keep *) wire          f_cf_me;              // u_cmd_fifo.mem_empty
     (* keep *) wire [F_AW:0] f_cf_rp1;             // u_cmd_fifo.rd_ptr_p1
     (* keep *) wire          f_cf_top, f_cf_one;   // u_cmd_fifo.top_r, one_r
+    (* keep *) wire          f_cf_mo;              // u_cmd_fifo.mem_one
+    (* keep *) wire [F_AW:0] f_cf_rp2;             // u_cmd_fifo.rd_ptr_p2
     wire [33*FIFO_DEPTH-1:0] f_cf_mem;
     genvar f_i;
     generate
@@ -838,6 +840,8 @@ module twh_core #(
     (* keep *) wire          f_rf_ov, f_rf_me;     // u_res_fifo.out_valid, mem_empty
     (* keep *) wire [F_AW:0] f_rf_rp1;             // u_res_fifo.rd_ptr_p1
     (* keep *) wire          f_rf_top, f_rf_one;   // u_res_fifo.top_r, one_r
+    (* keep *) wire          f_rf_mo;              // u_res_fifo.mem_one
+    (* keep *) wire [F_AW:0] f_rf_rp2;             // u_res_fifo.rd_ptr_p2
     wire [F_AW:0] f_rf_n = f_rf_wr - f_rf_rd;
 
     // per-channel state widened to 8 channels
@@ -990,6 +994,8 @@ module twh_core #(
                    f_cf_one == (cmd_level == {{(LW-1){1'b0}}, 1'b1}));
             assert(f_rf_top == (res_level == F_DEPTH - 1'b1) &&
                    f_rf_one == (res_level == {{(LW-1){1'b0}}, 1'b1}));
+            assert(f_cf_mo == (f_cf_rp1 == f_cf_wr) && f_cf_rp2 == f_cf_rd + 2'd2);
+            assert(f_rf_mo == (f_rf_rp1 == f_rf_wr) && f_rf_rp2 == f_rf_rd + 2'd2);
             // every queued command names a channel that exists (the push
             // refuses the others), so a dispatch always lands in a slot
             if (f_cf_ov) assert({1'b0, cmd_head[26:24]} < CH_COUNT);

@@ -31,6 +31,7 @@ module twh_fifo #(
     localparam [LW-1:0] DEPTH_M2 = DM2_I[LW-1:0];
     localparam integer  TWO_I    = 2;
     localparam [LW-1:0] TWO_L    = TWO_I[LW-1:0];
+    localparam [AW:0]   TWO_P    = TWO_I[AW:0];
 
     generate
         if ((1 << AW) != DEPTH || DEPTH < 2) begin : g_bad_depth
@@ -65,6 +66,13 @@ module twh_fifo #(
     // tells a load of the last word apart.
     reg         mem_empty;
     reg [AW:0]  rd_ptr_p1;
+    // The RAM holds exactly one word (rd_ptr_p1 == wr_ptr), a flag too: the
+    // empty flag's next value is then a choice by push and load among
+    // flip-flops (the compare behind the push was ECP5's path into it). Its
+    // own next value compares rd_ptr_p2 = rd_ptr + 2 with wr_ptr ("two
+    // words"), beside the push decode.
+    reg         mem_one;
+    reg [AW:0]  rd_ptr_p2;
     assign level = level_r;
     assign full  = full_r;
     assign vacant = vacant_r;
@@ -90,7 +98,9 @@ module twh_fifo #(
             wr_ptr    <= {(AW+1){1'b0}};
             rd_ptr    <= {(AW+1){1'b0}};
             rd_ptr_p1 <= {{AW{1'b0}}, 1'b1};
+            rd_ptr_p2 <= TWO_P;
             mem_empty <= 1'b1;
+            mem_one   <= 1'b0;
             out_valid <= 1'b0;
             level_r   <= {LW{1'b0}};
             full_r    <= 1'b0;
@@ -116,10 +126,13 @@ module twh_fifo #(
             if (do_push) wr_ptr <= wr_ptr + 1'b1;
             if (load) begin
                 rd_ptr    <= rd_ptr_p1;
-                rd_ptr_p1 <= rd_ptr_p1 + 1'b1;
+                rd_ptr_p1 <= rd_ptr_p2;
+                rd_ptr_p2 <= rd_ptr_p2 + 1'b1;
             end
             if (do_push)   mem_empty <= 1'b0;
-            else if (load) mem_empty <= (rd_ptr_p1 == wr_ptr);
+            else if (load) mem_empty <= mem_one;
+            if (do_push && !load)      mem_one <= mem_empty;
+            else if (load && !do_push) mem_one <= (rd_ptr_p2 == wr_ptr);
             if (load)         out_valid <= 1'b1;
             else if (do_pop)  out_valid <= 1'b0;
         end
@@ -164,6 +177,8 @@ module twh_fifo #(
             assert(f_mem_count <= DEPTH);
             assert(mem_empty == (wr_ptr == rd_ptr));
             assert(rd_ptr_p1 == rd_ptr + 1'b1);
+            assert(rd_ptr_p2 == rd_ptr + 2'd2);
+            assert(mem_one == (rd_ptr_p1 == wr_ptr));
             // no_rw_check on mem: never a push and a load at one address
             assert(!(do_push && load && wr_ptr[AW-1:0] == rd_ptr[AW-1:0]));
         end

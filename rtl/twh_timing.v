@@ -61,28 +61,53 @@ module twh_timing #(
     endfunction
 
     // ------------------------------------------------------------ storage
-    // 32 words whatever CHANNELS is ({channel, register}: the address needs
-    // no arithmetic); one block RAM deep on the iCE40s. A read in the clock its word
+    // Four words a channel ({channel, register}: the address needs no
+    // arithmetic), 16 up to four channels and 32 above: one block RAM deep
+    // on the iCE40s, and on ECP5 one LUT RAM bank, with no bank multiplexer
+    // behind the read. A read in the clock its word
     // is written may see the old or the new value (no_rw_check: no
     // collision logic in front of the RAM): the bus never reads a word in
     // its write's clock (a request is a read or a write), and a fetch that
     // meets a write is repeated within CHANNELS clocks anyway.
-    (* no_rw_check *) reg [31:0] mem_bus [0:31];
-    (* no_rw_check *) reg [35:0] mem_eng [0:31];
-    reg [31:0] written;                   // word {ch, reg} holds a value
-    wire [4:0] wa = {wr_ch, wr_reg};
-    wire [4:0] ra = {rd_ch, rd_reg};
+    localparam integer AW = (CHANNELS <= 4) ? 4 : 5;
+    localparam integer NW = 1 << AW;
+    // verilator lint_off UNUSEDSIGNAL
+    function [AW-1:0] adr;                // the word of channel c's register r
+        input [2:0] c;                    // (c's top bit unused up to four channels)
+        input [1:0] r;
+        adr = {c[AW-3:0], r};
+    endfunction
+    // verilator lint_on UNUSEDSIGNAL
+    // the words that exist: TIMING0-2 of each channel
+    function [NW-1:0] words_mask;
+        input integer n;
+        integer i;
+        begin
+            words_mask = {NW{1'b0}};
+            for (i = 0; i < n; i = i + 1) words_mask[i*4 +: 3] = 3'b111;
+        end
+    endfunction
+    localparam [NW-1:0] WORDS = words_mask(CHANNELS);
+    (* no_rw_check *) reg [31:0] mem_bus [0:NW-1];
+    (* no_rw_check *) reg [35:0] mem_eng [0:NW-1];
+    reg [NW-1:0] written;                 // word {ch, reg} holds a value
+    wire [AW-1:0] wa = adr(wr_ch, wr_reg);
+    wire [AW-1:0] ra = adr(rd_ch, rd_reg);
     reg  [31:0] rb_word;
     always @(posedge clk) begin
         if (wr) mem_bus[wa] <= wr_data;
         rb_word <= mem_bus[ra];
     end
-    // the words that exist: TIMING0-2 of each channel
-    localparam [31:0] WORDS = {{(32 - CHANNELS*4){1'b0}}, {CHANNELS{4'b0111}}};
-    always @(posedge clk) begin
-        if (rst) written <= 32'd0;
-        else     written <= (written | (wr ? 32'd1 << wa : 32'd0)) & WORDS;
-    end
+    // one flag at a time, each from its own address compare (a shift of a
+    // one into the whole vector put the write's verdict four LUTs deep)
+    genvar wi;
+    generate
+        for (wi = 0; wi < NW; wi = wi + 1) begin : g_written
+            localparam [AW-1:0] WA = wi;
+            always @(posedge clk)
+                written[wi] <= !rst && WORDS[wi] && (written[wi] || (wr && wa == WA));
+        end
+    endgenerate
 
     // ------------------------------------------------------------ bus read
     reg         rb_written;
@@ -132,10 +157,10 @@ module twh_timing #(
             end
             always @(posedge clk) begin
                 if (wr) mem_eng[wa] <= {wr_cmp, wr_data};
-                e_word <= mem_eng[{a_ch, a_reg}];
+                e_word <= mem_eng[adr(a_ch, a_reg)];
             end
             always @(posedge clk) begin
-                e_written <= written[{a_ch, a_reg}];
+                e_written <= written[adr(a_ch, a_reg)];
                 e_ok      <= !rst && a_ok && a_fld != 3'd0 && a_fld <= 3'd6;
                 e_ch      <= a_ch;
                 e_fld     <= a_fld;
@@ -143,10 +168,10 @@ module twh_timing #(
         end else begin : g_direct
             always @(posedge clk) begin
                 if (wr) mem_eng[wa] <= {wr_cmp, wr_data};
-                e_word <= mem_eng[{f_ch, f_reg}];
+                e_word <= mem_eng[adr(f_ch, f_reg)];
             end
             always @(posedge clk) begin
-                e_written <= written[{f_ch, f_reg}];
+                e_written <= written[adr(f_ch, f_reg)];
                 e_ok      <= !rst && f_fld != 3'd0 && f_fld <= 3'd6;
                 e_ch      <= f_ch;
                 e_fld     <= f_fld;
@@ -264,7 +289,7 @@ module twh_timing #(
     // reset; f_val, the last value written
     (* anyconst *) reg [2:0] f_ach;
     (* anyconst *) reg [1:0] f_areg;
-    wire [4:0] f_a = {f_ach, f_areg};
+    wire [AW-1:0] f_a = adr(f_ach, f_areg);
     always @(*) assume(f_ach < CHANNELS && f_areg <= 2'd2);
     reg        f_w;
     reg [31:0] f_val;
@@ -321,7 +346,7 @@ module twh_timing #(
         f0_ch  <= f_ch;
         f0_fld <= f_fld;
         f1_ok  <= r_ok && !rst;
-        f1_hit <= {r_ch, r_reg} == f_a;
+        f1_hit <= adr(r_ch, r_reg) == f_a;
         f1_ch  <= r_ch;
         f1_fld <= r_fld;
         f1_v   <= f_now;
