@@ -135,24 +135,17 @@ module twh_core #(
     wire [3:0] i_blk    = reg_addr[8:5] - 4'd2;
     wire       i_ch_ok  = i_is_ch && (i_blk < CH_COUNT);
     wire [3:0] i_g      = reg_addr[5:2];
-    wire       i_wr     = reg_req && reg_we && (reg_wstrb == 4'hF);
-    wire       i_rd     = reg_req && !reg_we;
-    wire       i_grd    = i_rd && !i_is_ch;          // a read of a global register
+    // a full-word write, a read, a read of a global register: of the
+    // request on the port, when there is one (the strobes below)
+    wire       i_wr     = reg_we && (reg_wstrb == 4'hF);
+    wire       i_rd     = !reg_we;
+    wire       i_grd    = !reg_we && !i_is_ch;
     integer    i_n;
     // The request stage loads only around a request (this one, or the clock
     // after one, which clears its strobes); between requests every strobe
     // is already 0 and the rest is unused. Icarus runs every clocked block
     // on every clock, and the idle bus was most of the core's cost there.
     wire       i_load   = rst || reg_req || q_req;
-    always @(posedge clk) if (i_load) begin
-        for (i_n = 0; i_n < CHANNELS; i_n = i_n + 1) begin
-            q_ch[i_n]   <= !rst && i_wr && (i_blk[2:0] == i_n[2:0]);
-            q_r_cr[i_n*3 +: 3] <= (!rst && i_rd && i_ch_ok && reg_addr[4:2] >= 3'd3 &&
-                                   reg_addr[4:2] <= 3'd5 && i_blk[2:0] == i_n[2:0])
-                                  ? 3'b001 << (reg_addr[4:2] - 3'd3) : 3'b000;
-        end
-    end
-
     reg        q_req, q_we, q_full, q_key_lab, q_key_fact, q_factory;
     reg        q_wr, q_rd, q_mapped, q_bad_ch;
     // Read selects, one per register a read shows (none for write-only or
@@ -187,10 +180,8 @@ module twh_core #(
                                  // copy's LUT RAM read address, ECP5's path)
     reg [31:0] q_wdata;
     wire       res_valid_next;   // the result FIFO's !empty of the next clock
+    // The data of the request, loaded only around one (see i_load).
     always @(posedge clk) if (i_load) begin
-        q_req      <= !rst && reg_req;
-        q_wr       <= !rst && i_wr;
-        q_rd       <= !rst && reg_req && !reg_we;
         q_we       <= reg_we;
         q_full     <= (reg_wstrb == 4'hF);
         q_addr     <= reg_addr;
@@ -199,42 +190,76 @@ module twh_core #(
         q_cmp      <= i_cmp;
         q_cmp_nz   <= (i_cmp != 4'd0);
         q_win_p    <= i_win_p;
-        q_wr_t     <= !rst && i_wr && i_ch_ok && reg_addr[4:2] <= 3'd2;
-        q_r_t      <= !rst && i_rd && i_ch_ok && reg_addr[4:2] <= 3'd2;
-        q_ref_p    <= !rst && i_wr && i_ch_ok && reg_addr[4:2] == 3'd3 && !i_win_p;
         q_key_lab  <= (reg_wdata == `TWH_LAB_KEY);
         q_key_fact <= (reg_wdata == `TWH_FACTORY_KEY);
         q_factory  <= i_factory;
         q_bad_ch   <= {1'b0, reg_wdata[26:24]} >= CH_COUNT;
-        q_r_id         <= !rst && i_grd && i_g == R_ID;
-        q_r_version    <= !rst && i_grd && i_g == R_VERSION;
-        q_r_params     <= !rst && i_grd && i_g == R_PARAMS;
-        q_r_ctrl       <= !rst && i_grd && i_g == R_CTRL;
-        q_r_status     <= !rst && i_grd && i_g == R_STATUS;
-        q_r_levels     <= !rst && i_grd && i_g == R_LEVELS;
-        q_r_errors     <= !rst && i_grd && i_g == R_ERRORS;
-        q_r_irq_en     <= !rst && i_grd && i_g == R_IRQ_EN;
-        q_r_irq_status <= !rst && i_grd && i_g == R_IRQ_STATUS;
-        q_r_poll_ready <= !rst && i_grd && i_g == R_POLL_READY;
-        // masked on the way in by "not empty" as the FIFO will be when
-        // the read is carried out (an empty FIFO's fields read zero), so
-        // neither the empty flag nor its AND is on the read path
-        q_r_res_info   <= !rst && i_grd && i_g == R_RES_INFO && res_valid_next;
-        q_r_res_pop    <= !rst && i_grd && i_g == R_RES_POP && res_valid_next;
         q_mapped   <= i_is_ch ? (i_ch_ok && reg_addr[4:2] <= 3'd5) : (i_g != 4'd15);
         q_wp       <= i_ch_ok && reg_addr[4:2] == 3'd3;
-        // write (or, for RES_POP, read) strobes of the global registers
-        q_ctrl       <= !rst && i_wr && !i_is_ch && i_g == R_CTRL;
-        q_flush      <= !rst && i_wr && !i_is_ch && i_g == R_CTRL && reg_wdata[1];
-        q_errors     <= !rst && i_wr && !i_is_ch && i_g == R_ERRORS;
-        q_irq_en     <= !rst && i_wr && !i_is_ch && i_g == R_IRQ_EN;
-        q_poll_ready <= !rst && i_wr && !i_is_ch && i_g == R_POLL_READY;
-        q_push       <= !rst && i_wr && !i_is_ch && i_g == R_CMD_PUSH;
-        q_push_ch    <= !rst && i_wr && !i_is_ch && i_g == R_CMD_PUSH &&
-                        ({1'b0, reg_wdata[26:24]} < CH_COUNT);
-        q_pop        <= !rst && i_grd && i_g == R_RES_POP;
-        q_lab_key    <= !rst && i_wr && !i_is_ch && i_g == R_LAB_KEY;
-        q_fact_key   <= !rst && i_wr && !i_is_ch && i_g == R_FACTORY_KEY;
+    end
+    // Its strobes and read selects: the address decoded as if a request
+    // were on the port, cleared by the flip-flops' synchronous reset when
+    // none is (or in reset). The port's strobe then waits for one LUT in
+    // front of that reset, not for the decode (the Wishbone strobe, behind
+    // twh_wb's busy flag, was ECP5's path into these).
+    always @(posedge clk) begin
+        if (rst || !reg_req) begin
+            q_req <= 1'b0; q_wr <= 1'b0; q_rd <= 1'b0;
+            q_wr_t <= 1'b0; q_r_t <= 1'b0; q_ref_p <= 1'b0;
+            q_ch <= {CHANNELS{1'b0}}; q_r_cr <= {(CHANNELS*3){1'b0}};
+            q_r_id <= 1'b0; q_r_version <= 1'b0; q_r_params <= 1'b0; q_r_ctrl <= 1'b0;
+            q_r_status <= 1'b0; q_r_levels <= 1'b0; q_r_errors <= 1'b0; q_r_irq_en <= 1'b0;
+            q_r_irq_status <= 1'b0; q_r_poll_ready <= 1'b0; q_r_res_info <= 1'b0;
+            q_r_res_pop <= 1'b0;
+            q_ctrl <= 1'b0; q_flush <= 1'b0; q_errors <= 1'b0; q_irq_en <= 1'b0;
+            q_poll_ready <= 1'b0; q_push <= 1'b0; q_push_ch <= 1'b0; q_pop <= 1'b0;
+            q_lab_key <= 1'b0; q_fact_key <= 1'b0;
+        end else begin
+            q_req      <= 1'b1;
+            q_wr       <= i_wr;
+            q_rd       <= i_rd;
+            q_wr_t     <= i_wr && i_ch_ok && reg_addr[4:2] <= 3'd2;
+            q_r_t      <= i_rd && i_ch_ok && reg_addr[4:2] <= 3'd2;
+            q_ref_p    <= i_wr && i_ch_ok && reg_addr[4:2] == 3'd3 && !i_win_p;
+            for (i_n = 0; i_n < CHANNELS; i_n = i_n + 1) begin
+                q_ch[i_n] <= i_wr && (i_blk[2:0] == i_n[2:0]);
+                // (an AND per select, no choice with a 0 arm: Yosys would
+                // have folded that into the reset, behind the port's strobe)
+                q_r_cr[i_n*3 + 0] <= i_rd && i_ch_ok && i_blk[2:0] == i_n[2:0] &&
+                                     reg_addr[4:2] == 3'd3;
+                q_r_cr[i_n*3 + 1] <= i_rd && i_ch_ok && i_blk[2:0] == i_n[2:0] &&
+                                     reg_addr[4:2] == 3'd4;
+                q_r_cr[i_n*3 + 2] <= i_rd && i_ch_ok && i_blk[2:0] == i_n[2:0] &&
+                                     reg_addr[4:2] == 3'd5;
+            end
+            q_r_id         <= i_grd && i_g == R_ID;
+            q_r_version    <= i_grd && i_g == R_VERSION;
+            q_r_params     <= i_grd && i_g == R_PARAMS;
+            q_r_ctrl       <= i_grd && i_g == R_CTRL;
+            q_r_status     <= i_grd && i_g == R_STATUS;
+            q_r_levels     <= i_grd && i_g == R_LEVELS;
+            q_r_errors     <= i_grd && i_g == R_ERRORS;
+            q_r_irq_en     <= i_grd && i_g == R_IRQ_EN;
+            q_r_irq_status <= i_grd && i_g == R_IRQ_STATUS;
+            q_r_poll_ready <= i_grd && i_g == R_POLL_READY;
+            // masked on the way in by "not empty" as the FIFO will be when
+            // the read is carried out (an empty FIFO's fields read zero), so
+            // neither the empty flag nor its AND is on the read path
+            q_r_res_info   <= i_grd && i_g == R_RES_INFO && res_valid_next;
+            q_r_res_pop    <= i_grd && i_g == R_RES_POP && res_valid_next;
+            // write (or, for RES_POP, read) strobes of the global registers
+            q_ctrl       <= i_wr && !i_is_ch && i_g == R_CTRL;
+            q_flush      <= i_wr && !i_is_ch && i_g == R_CTRL && reg_wdata[1];
+            q_errors     <= i_wr && !i_is_ch && i_g == R_ERRORS;
+            q_irq_en     <= i_wr && !i_is_ch && i_g == R_IRQ_EN;
+            q_poll_ready <= i_wr && !i_is_ch && i_g == R_POLL_READY;
+            q_push       <= i_wr && !i_is_ch && i_g == R_CMD_PUSH;
+            q_push_ch    <= i_wr && !i_is_ch && i_g == R_CMD_PUSH &&
+                            ({1'b0, reg_wdata[26:24]} < CH_COUNT);
+            q_pop        <= i_grd && i_g == R_RES_POP;
+            q_lab_key    <= i_wr && !i_is_ch && i_g == R_LAB_KEY;
+            q_fact_key   <= i_wr && !i_is_ch && i_g == R_FACTORY_KEY;
+        end
     end
 
     // ------------------------------------------------------------ decode
