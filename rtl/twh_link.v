@@ -224,16 +224,29 @@ module twh_link #(
     // clocks) apart, so its decodes are registered: at every tick they are
     // those of the count as it stands, and the 16-bit compare is off the
     // path into the phase, bit and frame registers.
-    // They are taken in the clock after a tick (tick_d), the only one after
-    // cnt, the phase or the bit may have changed.
-    reg tick_d;
+    // They are taken over the two clocks after a tick (tick_d, tick_d2),
+    // the first after which cnt, the phase or the bit may have changed: the
+    // count's halves are compared in the first (c_hz, c_lo1, c_lo01), the
+    // flags made of those in the second, so no compare of all 16 bits sits
+    // in one clock (ECP5's three-channel path). They are read at the next
+    // tick and in the clock before it (adv, dec), at least two clocks on.
+    reg tick_d, tick_d2;
+    reg c_hz, c_lo1, c_lo01, c_cmd, c_b10;   // cnt[15:5] == 0, cnt[4:0] == 1,
+                                             // cnt[4:1] == 0, command, bitn == 10
     reg last;          // cnt <= 1: this period is the phase's last
     reg bit_end;       // a command bit's last period, not the phase's
     reg byte_end;      // bit_end of a character's last (second stop) bit
     always @(posedge clk) if (rst || tick_d) begin
-        last     <= !rst && (cnt[15:1] == 15'd0);
-        bit_end  <= !rst && ph_oh[`TWH_PH_COMMAND] && (cnt[4:0] == 5'd1) && (cnt != 16'd1);
-        byte_end <= !rst && (bitn == 4'd10);
+        c_hz   <= (cnt[15:5] == 11'd0);
+        c_lo1  <= (cnt[4:0] == 5'd1);
+        c_lo01 <= (cnt[4:1] == 4'd0);
+        c_cmd  <= ph_oh[`TWH_PH_COMMAND];
+        c_b10  <= (bitn == 4'd10);
+    end
+    always @(posedge clk) if (rst || tick_d2) begin
+        last     <= !rst && c_hz && c_lo01;
+        bit_end  <= !rst && c_cmd && c_lo1 && !c_hz;
+        byte_end <= !rst && c_b10;
     end
 
     // result of the listen phase, decided on its last tick
@@ -392,11 +405,13 @@ module twh_link #(
     always @(posedge clk) begin
         if (rst) begin
             tick_d  <= 1'b0;
+            tick_d2 <= 1'b0;
             fall_d  <= 1'b0;
             line_o  <= 1'b0;
             line_oe <= 1'b0;
         end else begin
             tick_d <= tick;
+            tick_d2 <= tick_d;
             fall_d <= fall;
             if (tick_d) begin
                 line_oe <= drive;
@@ -581,13 +596,16 @@ module twh_link #(
             // ---- sequencer: the state the counts below rely on
             if (cnt == 16'd0) assert(f_ticks == 16'd0 && f_dur == 16'd1);
             assert(ph_oh == (8'd1 << ph));
-            // the registered decodes trail cnt by one clock only, and never
-            // at a tick
-            if (!tick_d && !rst) assert(last == (cnt <= 16'd1) &&
+            // the registered decodes trail cnt by two clocks only, and never
+            // at a tick or in the clock before one; the halves' compares by one
+            if (tick_d2) assert(c_hz == (cnt[15:5] == 11'd0) && c_lo1 == (cnt[4:0] == 5'd1) &&
+                                c_lo01 == (cnt[4:1] == 4'd0) &&
+                                c_cmd == (ph == `TWH_PH_COMMAND) && c_b10 == (bitn == 4'd10));
+            if (!tick_d && !tick_d2 && !rst) assert(last == (cnt <= 16'd1) &&
                                         bit_end == (ph == `TWH_PH_COMMAND && cnt[4:0] == 5'd1 &&
                                                     cnt != 16'd1) &&
                                         byte_end == (bitn == 4'd10));
-            assert(!(tick && tick_d));
+            assert(!(tick && tick_d) && !(tick && tick_d2) && !(tick_nx && tick_d2));
             assert(f_ticks < f_dur);
             assert(f_eff(cnt) + f_ticks == f_dur);
             if (ph == `TWH_PH_IDLE)
@@ -657,7 +675,7 @@ module twh_link #(
     // ahead, no tick in two clocks running, and at a tick its enable is as
     // a clock before, or 0 after a reset
     always @(posedge clk)
-        if (f_ok) assert(tick == $past(tick_nx && !rst));
+        if (f_ok) assert(tick == $past(tick_nx && !rst) && tick_d2 == $past(tick_d && !rst));
     always @(posedge clk)
         if (f_ok && tick) assert(!$past(tick) && rx_en == ($past(rx_en) && !$past(rst)));
 
