@@ -141,10 +141,10 @@ module twh_core #(
     wire       i_rd     = !reg_we;
     wire       i_grd    = !reg_we && !i_is_ch;
     integer    i_n;
-    // The request stage loads only around a request (this one, or the clock
-    // after one, which clears its strobes); between requests every strobe
-    // is already 0 and the rest is unused. Icarus runs every clocked block
-    // on every clock, and the idle bus was most of the core's cost there.
+    // The request's data loads only around a request (this one, or the
+    // clock after one); between requests its strobes are 0 and the data is
+    // unused. Icarus runs every clocked block on every clock, and the idle
+    // bus was most of the core's cost there.
     wire       i_load   = rst || reg_req || q_req;
     reg        q_req, q_we, q_full, q_key_lab, q_key_fact, q_factory;
     reg        q_wr, q_rd, q_mapped, q_bad_ch;

@@ -274,15 +274,15 @@ module twh_link #(
         rx_status_q  <= rx_status;
         rx_data_ok_q <= rx_data_ok;
     end
-    // lis_end: this clock's tick ends the listen phase, taken a clock ahead
+    // The sequencer's moves at a tick, each a flip-flop taken a clock ahead
     // from tick_nx (the phase, `last` and the length's field do not change
-    // in the clock before a tick, and dur_ok's next value is the one it
-    // takes there), so the result registers load on one flip-flop rather
-    // than behind the tick's decode (ECP5's three-channel critical path)
-    // In the same way the sequencer's two moves at a tick: adv, the phase
-    // ends (from idle: a pending command, a clock old, starts); dec, the
-    // count steps down. Pending at the tick with pend_q is pending in the
-    // clock before it.
+    // in the clock before a tick, and dur_ok's value at the tick is the
+    // compare taken there, dok_nx), so the phase, count and result
+    // registers load on one flip-flop rather than behind the tick's decode
+    // (ECP5's three-channel critical path): adv, the phase ends (from idle:
+    // a command pending in the clock before, so a clock old at the tick,
+    // starts); dec, the count steps down; lis_end, the listen ends and its
+    // result loads.
     wire dok_nx = (dur_we ? dur_fld_in : dur_fld) == nx_fld;
     reg lis_end, adv, dec;
     always @(posedge clk) begin
