@@ -202,7 +202,8 @@ module twh_core #(
     // none is (or in reset). The port's strobe then waits for one LUT in
     // front of that reset, not for the decode (the Wishbone strobe, behind
     // twh_wb's busy flag, was ECP5's path into these).
-    always @(posedge clk) begin
+    // (loaded only around a request too: see i_load)
+    always @(posedge clk) if (i_load) begin
         if (rst || !reg_req) begin
             q_req <= 1'b0; q_wr <= 1'b0; q_rd <= 1'b0;
             q_wr_t <= 1'b0; q_r_t <= 1'b0; q_ref_p <= 1'b0;
@@ -492,70 +493,59 @@ module twh_core #(
                          (push_status <= `TWH_ST_LINE_STUCK_HIGH);
     wire [7:0] sample8, busy8;
 
-    // One block per group of registers, each loaded on its own strobes: a
-    // shared "anything to do" guard in front of them all was a wide OR on
-    // every one of their enables (ECP5's three-channel critical path).
-    always @(posedge clk) begin
-        if (rst) begin
-            enable      <= 1'b1;
-            idle_charge <= 8'd0;
-        end else if (q_ctrl) begin
-            enable      <= q_wdata[0];
-            idle_charge <= q_wdata[15:8];
-        end
-    end
-    // A flush cancels exactly the commands queued when it is written;
-    // commands pushed after it run normally.
-    always @(posedge clk) begin
-        if (rst) begin
-            flush_left <= {LW{1'b0}};
-            flushing   <= 1'b0;
-        end else if (q_flush) begin
-            flush_left <= flush_new;
-            flushing   <= flush_new_nz;
-        end else if (dispatch && flushing) begin
-            flush_left <= flush_left - 1'b1;
-            flushing   <= (flush_left != {{(LW-1){1'b0}}, 1'b1});
-        end
-    end
-    always @(posedge clk) begin
-        if (rst) begin
-            ie_result     <= 1'b0;
-            ie_error      <= 1'b0;
-            ie_poll       <= 1'b0;
-            res_threshold <= 8'd1;
-        end else if (q_irq_en) begin
-            ie_result     <= q_wdata[0];
-            ie_error      <= q_wdata[1];
-            ie_poll       <= q_wdata[2];
-            res_threshold <= q_wdata[15:8];
-        end
-    end
-    // the lab unlock only lets timing out of its windows: a build with
-    // fixed timing has none
-    always @(posedge clk) begin
-        if (rst)            lab <= 1'b0;
-        else if (q_lab_key) lab <= q_key_lab && PROG_TIMING != 0;
-    end
-    always @(posedge clk) begin
-        if (rst || push_ok)  factory_armed <= 1'b0;        // the next command only
-        else if (q_fact_key) factory_armed <= q_key_fact;
-    end
+    // Each register loads on its own strobes, with no shared "anything to
+    // do" guard in front of them all (that was a wide OR on every one of
+    // their enables, ECP5's three-channel critical path); one block, so
+    // Icarus wakes one process a clock for them.
     // A command dispatched as BLOCKED (h_skip) sets BLOCKED a clock later,
-    // from a flip-flop: the dispatch's terms were ECP5's path into the
-    // error register. Its result is several clocks behind it still.
+    // from a flip-flop (disp_blk_err): the dispatch's terms were ECP5's path
+    // into the error register. Its result is several clocks behind it still.
     reg disp_blk_err;
-    always @(posedge clk)
-        disp_blk_err <= !rst && dispatch && disp_blk && !flushing && !flush_wr;
-    // hardware sets win over a clear in the same clock
     always @(posedge clk) begin
+        disp_blk_err <= !rst && dispatch && disp_blk && !flushing && !flush_wr;
         if (rst) begin
+            enable          <= 1'b1;
+            idle_charge     <= 8'd0;
+            flush_left      <= {LW{1'b0}};
+            flushing        <= 1'b0;
+            ie_result       <= 1'b0;
+            ie_error        <= 1'b0;
+            ie_poll         <= 1'b0;
+            res_threshold   <= 8'd1;
+            lab             <= 1'b0;
+            factory_armed   <= 1'b0;
             err_overflow    <= 1'b0;
             err_refused     <= 1'b0;
             err_blocked     <= 1'b0;
             err_bad_channel <= 1'b0;
             err_link        <= 1'b0;
+            poll_ready      <= 8'd0;
         end else begin
+            if (q_ctrl) begin
+                enable      <= q_wdata[0];
+                idle_charge <= q_wdata[15:8];
+            end
+            // A flush cancels exactly the commands queued when it is
+            // written; commands pushed after it run normally.
+            if (q_flush) begin
+                flush_left <= flush_new;
+                flushing   <= flush_new_nz;
+            end else if (dispatch && flushing) begin
+                flush_left <= flush_left - 1'b1;
+                flushing   <= (flush_left != {{(LW-1){1'b0}}, 1'b1});
+            end
+            if (q_irq_en) begin
+                ie_result     <= q_wdata[0];
+                ie_error      <= q_wdata[1];
+                ie_poll       <= q_wdata[2];
+                res_threshold <= q_wdata[15:8];
+            end
+            // the lab unlock only lets timing out of its windows: a build
+            // with fixed timing has none
+            if (q_lab_key) lab <= q_key_lab && PROG_TIMING != 0;
+            if (push_ok)         factory_armed <= 1'b0;        // the next command only
+            else if (q_fact_key) factory_armed <= q_key_fact;
+            // hardware sets win over a clear in the same clock
             if ((q_errors && q_wdata[0]) || (push_req && cmd_full && !push_bad_ch))
                 err_overflow    <= push_req && cmd_full && !push_bad_ch;
             if ((q_errors && q_wdata[1]) || refused)
@@ -566,12 +556,9 @@ module twh_core #(
                 err_bad_channel <= push_req && push_bad_ch;
             if ((q_errors && q_wdata[4]) || push_link_err || |c_poll_err)
                 err_link        <= push_link_err || |c_poll_err;
+            if (q_poll_ready || sample8 != 0)
+                poll_ready <= (q_poll_ready ? (poll_ready & ~q_wdata[7:0]) : poll_ready) | sample8;
         end
-    end
-    always @(posedge clk) begin
-        if (rst)                              poll_ready <= 8'd0;
-        else if (q_poll_ready || sample8 != 0)
-            poll_ready <= (q_poll_ready ? (poll_ready & ~q_wdata[7:0]) : poll_ready) | sample8;
     end
 
     // ------------------------------------------------------------ reads

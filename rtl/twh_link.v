@@ -236,17 +236,19 @@ module twh_link #(
     reg last;          // cnt <= 1: this period is the phase's last
     reg bit_end;       // a command bit's last period, not the phase's
     reg byte_end;      // bit_end of a character's last (second stop) bit
-    always @(posedge clk) if (rst || tick_d) begin
-        c_hz   <= (cnt[15:5] == 11'd0);
-        c_lo1  <= (cnt[4:0] == 5'd1);
-        c_lo01 <= (cnt[4:1] == 4'd0);
-        c_cmd  <= ph_oh[`TWH_PH_COMMAND];
-        c_b10  <= (bitn == 4'd10);
-    end
-    always @(posedge clk) if (rst || tick_d2) begin
-        last     <= !rst && c_hz && c_lo01;
-        bit_end  <= !rst && c_cmd && c_lo1 && !c_hz;
-        byte_end <= !rst && c_b10;
+    always @(posedge clk) begin
+        if (rst || tick_d) begin
+            c_hz   <= (cnt[15:5] == 11'd0);
+            c_lo1  <= (cnt[4:0] == 5'd1);
+            c_lo01 <= (cnt[4:1] == 4'd0);
+            c_cmd  <= ph_oh[`TWH_PH_COMMAND];
+            c_b10  <= (bitn == 4'd10);
+        end
+        if (rst || tick_d2) begin
+            last     <= !rst && c_hz && c_lo01;
+            bit_end  <= !rst && c_cmd && c_lo1 && !c_hz;
+            byte_end <= !rst && c_b10;
+        end
     end
 
     // result of the listen phase, decided on its last tick
@@ -285,7 +287,9 @@ module twh_link #(
     // result loads.
     wire dok_nx = (dur_we ? dur_fld_in : dur_fld) == nx_fld;
     reg lis_end, adv, dec;
-    always @(posedge clk) begin
+    // (loaded in the clock before a tick and cleared in the tick's; held
+    // at 0 otherwise: Icarus then has nothing to do in the clocks between)
+    always @(posedge clk) if (rst || tick_nx || tick) begin
         lis_end <= !rst && tick_nx && ph_oh[`TWH_PH_LISTEN] && last && dok_nx;
         adv     <= !rst && tick_nx && last &&
                    (ph_oh[`TWH_PH_IDLE] ? pending && dok_nx
@@ -411,7 +415,7 @@ module twh_link #(
             line_oe <= 1'b0;
         end else begin
             tick_d <= tick;
-            tick_d2 <= tick_d;
+            if (tick_d || tick_d2) tick_d2 <= tick_d;
             fall_d <= fall;
             if (tick_d) begin
                 line_oe <= drive;

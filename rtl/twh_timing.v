@@ -71,12 +71,10 @@ module twh_timing #(
     // meets a write is repeated within CHANNELS clocks anyway.
     localparam integer AW = (CHANNELS <= 4) ? 4 : 5;
     localparam integer NW = 1 << AW;
+    // the word of channel c's register r is {c[AW-3:0], r}; up to four
+    // channels the channel's top bit is unused
     // verilator lint_off UNUSEDSIGNAL
-    function [AW-1:0] adr;                // the word of channel c's register r
-        input [2:0] c;                    // (c's top bit unused up to four channels)
-        input [1:0] r;
-        adr = {c[AW-3:0], r};
-    endfunction
+    wire unused_ch = wr_ch[2] ^ rd_ch[2];
     // verilator lint_on UNUSEDSIGNAL
     // the words that exist: TIMING0-2 of each channel
     function [NW-1:0] words_mask;
@@ -91,23 +89,21 @@ module twh_timing #(
     (* no_rw_check *) reg [31:0] mem_bus [0:NW-1];
     (* no_rw_check *) reg [35:0] mem_eng [0:NW-1];
     reg [NW-1:0] written;                 // word {ch, reg} holds a value
-    wire [AW-1:0] wa = adr(wr_ch, wr_reg);
-    wire [AW-1:0] ra = adr(rd_ch, rd_reg);
+    wire [AW-1:0] wa = {wr_ch[AW-3:0], wr_reg};
+    wire [AW-1:0] ra = {rd_ch[AW-3:0], rd_reg};
     reg  [31:0] rb_word;
     always @(posedge clk) begin
         if (wr) mem_bus[wa] <= wr_data;
         rb_word <= mem_bus[ra];
     end
-    // one flag at a time, each from its own address compare (a shift of a
-    // one into the whole vector put the write's verdict four LUTs deep)
-    genvar wi;
-    generate
-        for (wi = 0; wi < NW; wi = wi + 1) begin : g_written
-            localparam [AW-1:0] WA = wi;
-            always @(posedge clk)
-                written[wi] <= !rst && WORDS[wi] && (written[wi] || (wr && wa == WA));
-        end
-    endgenerate
+    // each flag from its own address compare (a shift of a one into the
+    // whole vector put the write's verdict four LUTs deep); one block, so
+    // Icarus wakes one process a clock, not one per word
+    integer wi;
+    always @(posedge clk) if (rst || wr) begin
+        for (wi = 0; wi < NW; wi = wi + 1)
+            written[wi] <= !rst && WORDS[wi] && (written[wi] || wa == wi[AW-1:0]);
+    end
 
     // ------------------------------------------------------------ bus read
     reg         rb_written;
@@ -157,10 +153,10 @@ module twh_timing #(
             end
             always @(posedge clk) begin
                 if (wr) mem_eng[wa] <= {wr_cmp, wr_data};
-                e_word <= mem_eng[adr(a_ch, a_reg)];
+                e_word <= mem_eng[{a_ch[AW-3:0], a_reg}];
             end
             always @(posedge clk) begin
-                e_written <= written[adr(a_ch, a_reg)];
+                e_written <= written[{a_ch[AW-3:0], a_reg}];
                 e_ok      <= !rst && a_ok && a_fld != 3'd0 && a_fld <= 3'd6;
                 e_ch      <= a_ch;
                 e_fld     <= a_fld;
@@ -168,10 +164,10 @@ module twh_timing #(
         end else begin : g_direct
             always @(posedge clk) begin
                 if (wr) mem_eng[wa] <= {wr_cmp, wr_data};
-                e_word <= mem_eng[adr(f_ch, f_reg)];
+                e_word <= mem_eng[{f_ch[AW-3:0], f_reg}];
             end
             always @(posedge clk) begin
-                e_written <= written[adr(f_ch, f_reg)];
+                e_written <= written[{f_ch[AW-3:0], f_reg}];
                 e_ok      <= !rst && f_fld != 3'd0 && f_fld <= 3'd6;
                 e_ch      <= f_ch;
                 e_fld     <= f_fld;
@@ -289,7 +285,7 @@ module twh_timing #(
     // reset; f_val, the last value written
     (* anyconst *) reg [2:0] f_ach;
     (* anyconst *) reg [1:0] f_areg;
-    wire [AW-1:0] f_a = adr(f_ach, f_areg);
+    wire [AW-1:0] f_a = {f_ach[AW-3:0], f_areg};
     always @(*) assume(f_ach < CHANNELS && f_areg <= 2'd2);
     reg        f_w;
     reg [31:0] f_val;
@@ -346,7 +342,7 @@ module twh_timing #(
         f0_ch  <= f_ch;
         f0_fld <= f_fld;
         f1_ok  <= r_ok && !rst;
-        f1_hit <= adr(r_ch, r_reg) == f_a;
+        f1_hit <= {r_ch[AW-3:0], r_reg} == f_a;
         f1_ch  <= r_ch;
         f1_fld <= r_fld;
         f1_v   <= f_now;
