@@ -823,6 +823,21 @@ module twh_core #(
         end
     end
 
+    // BLOCKED rises two clocks after a command is dispatched with the
+    // BLOCKED status, always, and at no other time (a clear written in
+    // the same clock loses)
+    reg f_blk1 = 1'b0, f_blk2 = 1'b0;
+    always @(posedge clk) begin
+        f_blk1 <= !rst && dispatch && h_skip == `TWH_ST_BLOCKED;
+        f_blk2 <= !rst && f_blk1;
+    end
+    always @(posedge clk) begin
+        if (f_rs && f_h && !rst && !$past(rst)) begin
+            if (f_blk2) assert(err_blocked);
+            if (err_blocked && !$past(err_blocked)) assert($past(f_blk1));
+        end
+    end
+
 `ifdef TWH_F_CORE
     reg f_ok = 1'b0;
     always @(posedge clk) if (rst) f_ok <= 1'b1;
