@@ -113,10 +113,6 @@ module twh_link #(
 
     // ------------------------------------------------------------ command
     reg              pending;
-    // verilator lint_off UNUSEDSIGNAL
-    reg              pend_q;     // pending a clock ago too (the proofs': adv starts
-                                 // a command pending in the clock before the tick)
-    // verilator lint_on UNUSEDSIGNAL
     reg [7:0]        cmd_r;
     reg [TAG_W-1:0]  tag_r;
     reg [15:0]       pay_r;
@@ -198,14 +194,6 @@ module twh_link #(
     assign nx_fld = nx_fld_r;
     wire [7:0] ph_oh_nx = {ph_oh[6:0], ph_oh[7]};   // the phase after this one
     reg [2:0] dur_fld;      // the field dur_next holds (0: none yet)
-    // dur_ok: dur_next holds the field needed, exact at a tick: it is taken
-    // from dur_fld as it will be, and nx_fld changes only in a tick's clock,
-    // after which it reads 0 for a clock. The sequencer takes the same
-    // compare a clock before the tick (dok_nx, into adv); dur_ok is the
-    // proofs' statement of it.
-    // verilator lint_off UNUSEDSIGNAL
-    reg dur_ok;
-    // verilator lint_on UNUSEDSIGNAL
     always @(posedge clk) begin
         if (rst) begin
             dur_fld <= 3'd0;
@@ -213,7 +201,6 @@ module twh_link #(
             dur_next <= dur_in;
             dur_fld  <= dur_fld_in;
         end
-        dur_ok <= !rst && !tick && ((dur_we ? dur_fld_in : dur_fld) == nx_fld);
     end
     // the fixed lengths: the command's 44 or 33 bits of 32 us, one tick of
     // idle after a turnaround
@@ -278,8 +265,8 @@ module twh_link #(
     end
     // The sequencer's moves at a tick, each a flip-flop taken a clock ahead
     // from tick_nx (the phase, `last` and the length's field do not change
-    // in the clock before a tick, and dur_ok's value at the tick is the
-    // compare taken there, dok_nx), so the phase, count and result
+    // in the clock before a tick, and "the length is here" at the tick is
+    // the compare taken there, dok_nx), so the phase, count and result
     // registers load on one flip-flop rather than behind the tick's decode
     // (ECP5's three-channel critical path): adv, the phase ends (from idle:
     // a command pending in the clock before, so a clock old at the tick,
@@ -307,7 +294,6 @@ module twh_link #(
             // line must rest at least the full minimum turnaround
             cnt         <= `TWH_TURNAROUND_MIN + 16'd1;
             pending     <= 1'b0;
-            pend_q      <= 1'b0;
             cmd_r       <= 8'd0;
             tag_r       <= {TAG_W{1'b0}};
             pay_r       <= 16'd0;
@@ -320,7 +306,6 @@ module twh_link #(
             m_res_status<= 4'd0;
         end else begin
             if (m_res_valid && m_res_ready) m_res_valid <= 1'b0;
-            pend_q <= pending;
             rdy <= ph_oh[`TWH_PH_IDLE] && !pending && !m_res_valid && !accept;
 
             // The command is taken whole on every accept (the registers'
@@ -454,6 +439,18 @@ module twh_link #(
     twh_carrier #(.CLK_HZ(CLK_HZ)) f_timebase (.clk(clk), .rst(rst), .tick(f_tick),
                                                .tick_nx(f_tick_nx), .fall(f_fall));
     always @(*) assume(tick == f_tick && tick_nx == f_tick_nx && fall == f_fall);
+
+    // The conditions the sequencer takes a clock before a tick, as they
+    // stand at the tick: pend_q, pending a clock ago too (a command starts
+    // only a clock after it was accepted, so the checksum stages are
+    // current); dur_ok, dur_next holds the field needed (taken from dur_fld
+    // as it will be; nx_fld changes only in a tick's clock, after which this
+    // reads 0 for a clock).
+    reg pend_q, dur_ok;
+    always @(posedge clk) begin
+        pend_q <= !rst && pending;
+        dur_ok <= !rst && !tick && ((dur_we ? dur_fld_in : dur_fld) == nx_fld);
+    end
     // the previous clock ran after a reset and was no reset itself: $past
     // and the stream rules apply
     reg f_run = 1'b0;
