@@ -20,7 +20,7 @@ FORMAL_JOBS ?= \
     twh_demod:carrier_c4 twh_demod:carrier_c48 twh_demod:carrier_c100 \
     twh_rx:prove twh_rx:uart \
     twh_link:c4 twh_link:c48 twh_link:c13_56 \
-    twh_timing:ch1 twh_timing:ch3 twh_timing:fixed3 \
+    twh_timing:ch1 twh_timing:ch3 twh_timing:ch6 twh_timing:fixed3 \
     twh_channel:prove twh_channel:cover \
     twh_core:port twh_core:ch1 twh_core:ch2 twh_core:cover_ch2
 

@@ -285,14 +285,18 @@ module twh_timing #(
     // reset; f_val, the last value written
     (* anyconst *) reg [2:0] f_ach;
     (* anyconst *) reg [1:0] f_areg;
-    wire [AW-1:0] f_a = {f_ach[AW-3:0], f_areg};
+    wire [AW-1:0] f_a = {f_ach[AW-3:0], f_areg};        // where it is stored
+    // a write, read or fetch of that register, by channel and register (not
+    // by the address formula: a formula that put two registers in one word
+    // would then break the word's value)
+    wire f_wr_a = wr && wr_ch == f_ach && wr_reg == f_areg;
     always @(*) assume(f_ach < CHANNELS && f_areg <= 2'd2);
     reg        f_w;
     reg [31:0] f_val;
     always @(posedge clk) begin
         if (rst) begin
             f_w <= 1'b0;
-        end else if (wr && wa == f_a) begin
+        end else if (f_wr_a) begin
             f_w   <= 1'b1;
             f_val <= wr_data;
         end
@@ -318,7 +322,7 @@ module twh_timing #(
     reg        f_rd = 1'b0;
     reg [31:0] f_rd_want;
     always @(posedge clk) begin
-        f_rd      <= f_ok && !rst && ra == f_a && !(wr && wa == f_a);
+        f_rd      <= f_ok && !rst && rd_ch == f_ach && rd_reg == f_areg && !f_wr_a;
         f_rd_want <= f_now;
     end
     always @(*) if (f_rd) assert(rd_data == f_rd_want);
@@ -342,11 +346,11 @@ module twh_timing #(
         f0_ch  <= f_ch;
         f0_fld <= f_fld;
         f1_ok  <= r_ok && !rst;
-        f1_hit <= {r_ch[AW-3:0], r_reg} == f_a;
+        f1_hit <= r_ch == f_ach && r_reg == f_areg;
         f1_ch  <= r_ch;
         f1_fld <= r_fld;
         f1_v   <= f_now;
-        f1_vn  <= (wr && wa == f_a) ? wr_data : f_now;
+        f1_vn  <= f_wr_a ? wr_data : f_now;
         f2_ok  <= f1_ok && !rst;
         f2_hit <= f1_hit;
         f2_ch  <= f1_ch;
