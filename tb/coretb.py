@@ -1,5 +1,5 @@
 """Test-bench harness for the bus-attached core (tb/tb_core.v: twh_wb or
-twh_axil around twh_core, up to three channels on simulated 2-wire lines).
+twh_axil around twh_core, up to eight channels on simulated 2-wire lines).
 
 - One PeripheralModel and one SpecMonitor per channel, each pointed at its
   channel through a small adapter whose attributes are that channel's
@@ -44,7 +44,7 @@ NO_RESPONSE = int(Status.NO_RESPONSE)
 LAB_KEY = 0x4C414221       # "LAB!"
 FACTORY_KEY = 0x46414354   # "FACT"
 
-TB_CHANNELS = 3            # channels wired in tb_core.v
+TB_CHANNELS = 8            # channels wired in tb_core.v
 ACCESS_TIMEOUT_US = 50     # every bus access must be answered within this
 
 # NOTES.md defaults, microseconds

@@ -1,5 +1,5 @@
 // Test-bench top for the bus-attached core: twh_wb or twh_axil (BUS = 0 / 1)
-// with up to three channels, each on its own simulated 2-wire line.
+// with up to eight channels, each on its own simulated 2-wire line.
 //
 // The clock is generated here (a Python-driven clock costs ~20x). Each
 // channel's line is resolved by tb_line, as in tb_link.v. The per-channel
@@ -9,7 +9,7 @@
 `default_nettype none
 module tb_core #(
     parameter integer CLK_HZ     = 12_000_000,
-    parameter integer CHANNELS   = 3,        // 1..3 here
+    parameter integer CHANNELS   = 3,        // 1..8
     parameter integer FIFO_DEPTH = 16,
     parameter integer PROG_TIMING = 1,       // the core's feature parameters
     parameter integer POLLING    = 1,
@@ -58,17 +58,39 @@ module tb_core #(
     // channel 2
     output wire line_o_2, output wire line_oe_2, output wire line_2,
     input  wire periph_o_2, input wire periph_oe_2,
-    input  wire stuck_en_2, input wire stuck_val_2, input wire glitch_2
+    input  wire stuck_en_2, input wire stuck_val_2, input wire glitch_2,
+    // channel 3
+    output wire line_o_3, output wire line_oe_3, output wire line_3,
+    input  wire periph_o_3, input wire periph_oe_3,
+    input  wire stuck_en_3, input wire stuck_val_3, input wire glitch_3,
+    // channel 4
+    output wire line_o_4, output wire line_oe_4, output wire line_4,
+    input  wire periph_o_4, input wire periph_oe_4,
+    input  wire stuck_en_4, input wire stuck_val_4, input wire glitch_4,
+    // channel 5
+    output wire line_o_5, output wire line_oe_5, output wire line_5,
+    input  wire periph_o_5, input wire periph_oe_5,
+    input  wire stuck_en_5, input wire stuck_val_5, input wire glitch_5,
+    // channel 6
+    output wire line_o_6, output wire line_oe_6, output wire line_6,
+    input  wire periph_o_6, input wire periph_oe_6,
+    input  wire stuck_en_6, input wire stuck_val_6, input wire glitch_6,
+    // channel 7
+    output wire line_o_7, output wire line_oe_7, output wire line_7,
+    input  wire periph_o_7, input wire periph_oe_7,
+    input  wire stuck_en_7, input wire stuck_val_7, input wire glitch_7
 );
     reg clk = 1'b0;
     localparam real HALF_NS = 1.0e9 / (2.0 * CLK_HZ);
     always #(HALF_NS) clk = ~clk;
 
     wire [CHANNELS-1:0] lo, loe, li;
-    wire [2:0] lo3  = {{(3-CHANNELS){1'b0}}, lo};
-    wire [2:0] loe3 = {{(3-CHANNELS){1'b0}}, loe};
-    assign {line_o_2, line_o_1, line_o_0}    = lo3;
-    assign {line_oe_2, line_oe_1, line_oe_0} = loe3;
+    wire [7:0] lo8  = {{(8-CHANNELS){1'b0}}, lo};
+    wire [7:0] loe8 = {{(8-CHANNELS){1'b0}}, loe};
+    assign {line_o_7, line_o_6, line_o_5, line_o_4,
+            line_o_3, line_o_2, line_o_1, line_o_0}    = lo8;
+    assign {line_oe_7, line_oe_6, line_oe_5, line_oe_4,
+            line_oe_3, line_oe_2, line_oe_1, line_oe_0} = loe8;
     tb_line #(.PIN_LOG("pins_0.log"), .LINE_LOG("line_0.log")) u_line0 (
         .host_o(line_o_0), .host_oe(line_oe_0), .periph_o(periph_o_0), .periph_oe(periph_oe_0),
         .stuck_en(stuck_en_0), .stuck_val(stuck_val_0), .glitch(glitch_0), .line(line_0)
@@ -81,21 +103,41 @@ module tb_core #(
         .host_o(line_o_2), .host_oe(line_oe_2), .periph_o(periph_o_2), .periph_oe(periph_oe_2),
         .stuck_en(stuck_en_2), .stuck_val(stuck_val_2), .glitch(glitch_2), .line(line_2)
     );
-    wire [2:0] li3 = {line_2, line_1, line_0};
-    assign li = li3[CHANNELS-1:0];
+    tb_line #(.PIN_LOG("pins_3.log"), .LINE_LOG("line_3.log")) u_line3 (
+        .host_o(line_o_3), .host_oe(line_oe_3), .periph_o(periph_o_3), .periph_oe(periph_oe_3),
+        .stuck_en(stuck_en_3), .stuck_val(stuck_val_3), .glitch(glitch_3), .line(line_3)
+    );
+    tb_line #(.PIN_LOG("pins_4.log"), .LINE_LOG("line_4.log")) u_line4 (
+        .host_o(line_o_4), .host_oe(line_oe_4), .periph_o(periph_o_4), .periph_oe(periph_oe_4),
+        .stuck_en(stuck_en_4), .stuck_val(stuck_val_4), .glitch(glitch_4), .line(line_4)
+    );
+    tb_line #(.PIN_LOG("pins_5.log"), .LINE_LOG("line_5.log")) u_line5 (
+        .host_o(line_o_5), .host_oe(line_oe_5), .periph_o(periph_o_5), .periph_oe(periph_oe_5),
+        .stuck_en(stuck_en_5), .stuck_val(stuck_val_5), .glitch(glitch_5), .line(line_5)
+    );
+    tb_line #(.PIN_LOG("pins_6.log"), .LINE_LOG("line_6.log")) u_line6 (
+        .host_o(line_o_6), .host_oe(line_oe_6), .periph_o(periph_o_6), .periph_oe(periph_oe_6),
+        .stuck_en(stuck_en_6), .stuck_val(stuck_val_6), .glitch(glitch_6), .line(line_6)
+    );
+    tb_line #(.PIN_LOG("pins_7.log"), .LINE_LOG("line_7.log")) u_line7 (
+        .host_o(line_o_7), .host_oe(line_oe_7), .periph_o(periph_o_7), .periph_oe(periph_oe_7),
+        .stuck_en(stuck_en_7), .stuck_val(stuck_val_7), .glitch(glitch_7), .line(line_7)
+    );
+    wire [7:0] li8 = {line_7, line_6, line_5, line_4, line_3, line_2, line_1, line_0};
+    assign li = li8[CHANNELS-1:0];
 
     // Views for the waveform (tb/demo.gtkw, docs/waves.md) and for tests:
     // each channel's phase and the FIFO levels, read out of the core by
     // hierarchical name (assigned in g_wb / g_axil below), and a byte
     // monitor per line that shows what travelled on it.
-    wire [3*32-1:0] ch_state;              // twh_channel `state`: {.., slot_full, busy, phase}
+    wire [8*32-1:0] ch_state;              // twh_channel `state`: {.., slot_full, busy, phase}
     wire [15:0] cmd_level, res_level;
     wire [2:0]  phase_0 = ch_state[2:0];
     wire [2:0]  phase_1 = ch_state[34:32];
     wire [2:0]  phase_2 = ch_state[66:64];
     generate
-        if (CHANNELS < 3) begin : g_state_pad
-            assign ch_state[3*32-1:CHANNELS*32] = {(3-CHANNELS)*32{1'b0}};
+        if (CHANNELS < 8) begin : g_state_pad
+            assign ch_state[8*32-1:CHANNELS*32] = {(8-CHANNELS)*32{1'b0}};
         end
     endgenerate
 

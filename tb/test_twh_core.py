@@ -22,7 +22,7 @@ from cocotb.triggers import RisingEdge, Timer
 import protocol as p
 import regmap
 from coretb import (BLOCKED, CANCELLED, DEFAULT_TIMING, FACTORY_KEY, LAB_KEY,
-                    NO_RESPONSE, OK, TXN_US, CoreTB)
+                    NO_RESPONSE, OK, TIMING_FIELDS, TXN_US, CoreTB)
 from periph_model import Faults
 
 BLANK = 0x3FFF
@@ -1046,6 +1046,56 @@ async def lean_build(dut):
     await tb.finish()
 
 
+# ============================================================== 11. more than four channels
+@cocotb.test()
+async def six_channels(dut):
+    """Six channels, two beyond the four whose timing words fit 16 deep
+    (twh_timing's memories are 32 words above four channels): every
+    channel's TIMING0-2 keep their own values (channel 4's words are not
+    channel 0's), six engines run at once with their own phase lengths,
+    three modelled cells answer and three empty lines give NO_RESPONSE."""
+    cells = ("o2_v18", None, None, None, "co2", "o2_v15")
+    tb = await CoreTB(dut, cells=cells).start()
+    assert tb.channels == 6
+    timing = {0: dict(execute=6000), 1: dict(execute=4100, listen=2500),
+              2: dict(execute=4200, charge=9000), 3: dict(execute=4300),
+              4: dict(execute=3500, charge=9000, listen=2500), 5: dict(execute=4500)}
+    for ch, us in timing.items():
+        await tb.set_timing(ch, **us)
+    # read back after every write: no channel's write reached another's word
+    for ch in range(tb.channels):
+        want = dict(DEFAULT_TIMING, **timing[ch])
+        got = {ph: await tb.field(reg, f, ch) for ph, (reg, f) in TIMING_FIELDS.items()}
+        assert got == want, (ch, got, want)
+    pushed = []
+    for ch in range(tb.channels):
+        await tb.push(0x41, ch=ch, tag=ch + 1)
+        pushed.append((ch, ch + 1, 0x41))
+    await tb.wait_until(lambda: _running(tb, range(tb.channels)), timeout_ms=10)
+    assert await tb.field("STATUS", "BUSY") == 0b111111
+
+    results = await tb.wait_results(6, timeout_ms=TXN_US // 1000 + 20)
+    check_order(results, pushed)
+    for r in results:
+        prof = tb.profiles[r.channel]
+        if prof is None:
+            assert r.status == NO_RESPONSE, r
+        else:
+            assert r.status == OK and r.data == prof.fw_byte << 8 | prof.type_byte, r
+    for ch in range(tb.channels):
+        txs = tb.txns(ch)
+        assert [bytes(t.frame) for t in txs] == [frame(0x41)], (ch, txs)
+        want = dict(DEFAULT_TIMING, **timing[ch])
+        t = txs[0]
+        got = {ph: round(getattr(t, f"{ph}_us")) for ph in ("charge", "execute", "listen")}
+        assert got == {ph: want[ph] for ph in got}, (ch, got)
+    # all six ran at once
+    firsts = [tb.txns(ch)[0] for ch in range(tb.channels)]
+    assert max(t.start_ps for t in firsts) < min(txn_end_ps(t) for t in firsts)
+    assert await tb.errors() == 0          # NO_RESPONSE is no link error
+    await tb.finish()
+
+
 # ============================================================== pytest
 import simrun  # noqa: E402
 
@@ -1086,6 +1136,7 @@ CASES = [
     ("reset_mid_traffic", 0, 4_000_000, 3, 16),
     ("reset_mid_traffic", 1, 4_000_000, 3, 16),
     ("lean_build", 1, 4_000_000, 3, 16),      # with LEAN's parameters
+    ("six_channels", 0, 4_000_000, 6, 16),
 ]
 # the feature parameters of a fixed-timing board without polling
 LEAN = {"PROG_TIMING": 0, "POLLING": 0}
