@@ -14,6 +14,14 @@ Memory configurations of the same SoC (soc/twh_soc.py --variant hw):
                  memories an FPGA of this size could hold in block RAM;
                  this firmware would not run from it
   small, 1 channel  the same with CHANNELS=1 (UP5K only): what fits there
+  PicoRV32, SPRAM / SERV, SPRAM  (UP5K only) the two smaller RV32I CPUs of
+                 issue 19's question (a PicoRV32/SERV-class CPU beside
+                 three channels on a UP5K) in place of the VexRiscv, ROM
+                 8 KiB, SRAM 64 KiB in the UP5K's SPRAM (LiteX's
+                 Up5kSPRAM), block RAM left to the ROM and the core; SERV
+                 takes no interrupts, so the core's irq is not wired there.
+                 Neither CPU runs the firmware in make soc (the VexRiscv
+                 does): these rows are a fit check of the logic and memories
 The SoC clock is 24 MHz (CLK_HZ of the core); nextpnr targets 24 MHz on the
 UP5K, 50 MHz on the ECP5. ECP5 runs use nextpnr's default options (not the
 project's --tmg-ripup: it takes several times as long on a design this
@@ -38,15 +46,18 @@ import synth  # noqa: E402
 
 OUT = ROOT / "build" / "soc" / "bench"
 CLK_HZ = 24_000_000
-# name, ROM, SRAM, ROM image truncated to, channels, parts (None: all)
-CONFIGS = [("as simulated", 0x8000, 0x10000, None, 3, None),
-           ("small memories", 0x2000, 0x1000, 0x2000, 3, None),
-           ("small, 1 channel", 0x2000, 0x1000, 0x2000, 1, ["up5k"])]
+# name, ROM, SRAM, ROM image truncated to, channels, parts (None: all),
+# CPU, SRAM in the UP5K's SPRAM
+CONFIGS = [("as simulated", 0x8000, 0x10000, None, 3, None, "vexriscv", False),
+           ("small memories", 0x2000, 0x1000, 0x2000, 3, None, "vexriscv", False),
+           ("small, 1 channel", 0x2000, 0x1000, 0x2000, 1, ["up5k"], "vexriscv", False),
+           ("PicoRV32, SPRAM", 0x2000, 0x10000, 0x2000, 3, ["up5k"], "picorv32", True),
+           ("SERV, SPRAM", 0x2000, 0x10000, 0x2000, 3, ["up5k"], "serv", True)]
 PARTS = [("up5k", 24.0, "30 EBR (4 kbit), 4 SPRAM (256 kbit, not inferred)"),
          ("ecp5-25f", 50.0, "56 DP16KD (18 kbit)")]
 
 
-def gen_verilog(name, rom_size, sram_size, fw, truncate, channels):
+def gen_verilog(name, rom_size, sram_size, fw, truncate, channels, cpu, spram):
     d = OUT / re.sub(r"\W+", "_", name)
     d.mkdir(parents=True, exist_ok=True)
     rom = d / "fw.bin"
@@ -55,7 +66,8 @@ def gen_verilog(name, rom_size, sram_size, fw, truncate, channels):
     subprocess.run([sys.executable, str(ROOT / "soc" / "twh_soc.py"), "--variant", "hw",
                     "--out", str(d), "--clk-hz", str(CLK_HZ), "--rom-size", hex(rom_size),
                     "--sram-size", hex(sram_size), "--rom", str(rom),
-                    "--channels", str(channels)], check=True,
+                    "--channels", str(channels), "--cpu", cpu]
+                   + (["--spram"] if spram else []), check=True,
                    stdout=subprocess.DEVNULL)
     gw = d / "gateware"
     files = [l for l in (gw / "sources.f").read_text().split() if not l.startswith("+incdir")]
@@ -88,21 +100,25 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--fw", default=str(ROOT / "build" / "soc" / "fw" / "fw.bin"))
     ap.add_argument("--only", choices=[p for p, *_ in PARTS])
+    ap.add_argument("--config", action="append", choices=[c[0] for c in CONFIGS],
+                    help="only this configuration (repeatable)")
     a = ap.parse_args()
     fw = Path(a.fw)
     if not fw.exists():
         sys.exit(f"{fw}: build the firmware first (make soc)")
-    print("== LiteX SoC: VexRiscv minimal + twowire-host (3 channels) + UART + timer, "
+    print("== LiteX SoC: a RV32I CPU (VexRiscv minimal unless named) + twowire-host + UART + timer, "
           f"{CLK_HZ / 1e6:g} MHz (docs/soc.md)")
     t0 = time.time()
-    for name, rom_size, sram_size, truncate, channels, only in CONFIGS:
-        files, d = gen_verilog(name, rom_size, sram_size, fw, truncate, channels)
+    for name, rom_size, sram_size, truncate, channels, only, cpu, spram in CONFIGS:
+        if a.config and name not in a.config:
+            continue
+        files, d = gen_verilog(name, rom_size, sram_size, fw, truncate, channels, cpu, spram)
         for part, freq, mem in PARTS:
             if (a.only and part != a.only) or (only and part not in only):
                 continue
             out = d / part
             label = (f"{part:9} {name:16} {channels} ch, ROM {rom_size // 1024:2} KiB "
-                     f"SRAM {sram_size // 1024:2} KiB")
+                     f"SRAM {sram_size // 1024:2} KiB{' (SPRAM)' if spram else ''}")
             try:
                 # synth.py prints the tail of a failed tool's log: the
                 # reason is taken from the log below instead

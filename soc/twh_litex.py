@@ -144,13 +144,15 @@ class TwoWireHost(Module):
 
 def add_twh(soc, name="twh", pads=None, channels=1, fifo_depth=16, origin=None):
     """Adds a TwoWireHost to a LiteX SoC: its Wishbone window (uncached:
-    put `origin` in an IO region, or let LiteX place it), its interrupt,
-    and constants for software (<NAME>_CHANNELS, <NAME>_REG_<REG> offsets,
+    put `origin` in an IO region, or let LiteX place it), its interrupt
+    (when the CPU takes interrupts: without, software polls the core's
+    STATUS and the irq pin is left unused), and constants for software (<NAME>_CHANNELS, <NAME>_REG_<REG> offsets,
     <NAME>_CH_BASE/_CH_STRIDE, from the RDL)."""
     twh = TwoWireHost(soc.platform, pads, soc.sys_clk_freq, channels, fifo_depth)
     setattr(soc.submodules, name, twh)
     soc.bus.add_slave(name, twh.bus, SoCRegion(origin=origin, size=twh.size, cached=False))
-    soc.irq.add(name, use_loc_if_exists=True)
+    if soc.irq.enabled:
+        soc.irq.add(name, use_loc_if_exists=True)
     up = name.upper()
     soc.add_constant(f"{up}_CHANNELS", channels)
     soc.add_constant(f"{up}_ID_MAGIC", twh.regmap.id_reset)

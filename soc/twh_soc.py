@@ -5,7 +5,11 @@ its uptime counter), and twowire-host with three channels added by
 soc/twh_litex.py.
 
     twh_soc.py --variant sim --out build/soc/sim [--rom fw.bin]
-    twh_soc.py --variant hw  --out build/soc/hw  [--rom fw.bin]
+    twh_soc.py --variant hw  --out build/soc/hw  [--rom fw.bin] [--cpu serv] [--spram]
+
+--cpu picorv32 / serv put one of the smaller RV32I CPUs in place of the
+VexRiscv (scripts/bench_soc.py's UP5K fit check; make soc simulates the
+VexRiscv only), --spram the SRAM in the UP5K's SPRAM blocks.
 
 Writes OUT/gateware/twh_soc.v (+ the ROM/RAM .init files and sources.f,
 every Verilog file the SoC needs), OUT/software/include/generated/ (csr.h,
@@ -32,12 +36,19 @@ from migen import ClockDomain, Module
 from litex.build.generic_platform import GenericPlatform, Pins, Subsignal
 from litex.soc.integration import export
 from litex.soc.integration.builder import Builder
+from litex.soc.cores.ram import Up5kSPRAM
+from litex.soc.integration.soc import SoCRegion
 from litex.soc.integration.soc_core import SoCCore, get_mem_data
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from twh_litex import add_twh  # noqa: E402
 
 CHANNELS = 3
+# the CPUs the SoC can carry, each in its smallest RV32I variant: VexRiscv
+# (simulated by make soc), and the two smaller ones of issue 19's question
+# (does a PicoRV32/SERV-class CPU fit beside three channels on a UP5K?),
+# whose Verilog comes from their pythondata packages
+CPU_VARIANT = {"vexriscv": "minimal", "picorv32": "minimal", "serv": "standard"}
 TWH_ORIGIN = 0x82000000        # in VexRiscv's uncached IO region (0x80000000+)
 
 
@@ -96,20 +107,29 @@ class _CRG(Module):
 class TwhSoC(SoCCore):
     mem_map = {**SoCCore.mem_map}
 
-    def __init__(self, variant, clk_hz, rom_size, sram_size, rom_init, channels=CHANNELS):
+    def __init__(self, variant, clk_hz, rom_size, sram_size, rom_init, channels=CHANNELS,
+                 cpu="vexriscv", spram=False):
         platform = VerilogPlatform("", _io(variant, channels), name="twh_soc")
         SoCCore.__init__(self, platform, clk_hz,
-                         cpu_type="vexriscv", cpu_variant="minimal",
+                         cpu_type=cpu, cpu_variant=CPU_VARIANT[cpu],
                          integrated_rom_size=rom_size, integrated_rom_init=rom_init,
-                         integrated_sram_size=sram_size,
+                         integrated_sram_size=0 if spram else sram_size,
                          uart_name="sim" if variant == "sim" else "serial",
                          uart_baudrate=115200,
                          with_timer=True, timer_uptime=True,
                          ident="twowire-host LiteX SoC", ident_version=False)
         self.crg = _CRG(platform)
+        if spram:
+            # the UP5K's single-port RAM blocks (two side by side: 32 bits,
+            # 64 KiB), leaving the block RAM to the ROM and the core
+            self.spram = Up5kSPRAM(size=sram_size)
+            self.bus.add_slave("sram", self.spram.bus,
+                               SoCRegion(origin=self.mem_map["sram"], size=sram_size))
         self.twh = None
+        # (the other CPUs' maps have their CSRs there: LiteX places the
+        # window in their IO region)
         add_twh(self, "twh", pads=platform.request("twh"), channels=channels,
-                origin=TWH_ORIGIN)
+                origin=TWH_ORIGIN if cpu == "vexriscv" else None)
 
 
 class HeaderBuilder(Builder):
@@ -129,6 +149,9 @@ def main():
     ap.add_argument("--sram-size", type=lambda s: int(s, 0), default=0x10000)
     ap.add_argument("--rom", help="firmware binary for the ROM")
     ap.add_argument("--channels", type=int, default=CHANNELS)
+    ap.add_argument("--cpu", choices=sorted(CPU_VARIANT), default="vexriscv")
+    ap.add_argument("--spram", action="store_true",
+                    help="SRAM in the iCE40 UP5K's SPRAM (hw only; 64 or 128 KiB)")
     ap.add_argument("-v", "--verbose", action="store_true", help="LiteX's own log")
     a = ap.parse_args()
     if not a.verbose:
@@ -139,7 +162,10 @@ def main():
         rom_init = get_mem_data(a.rom, data_width=32, endianness="little")
         if len(rom_init) * 4 > a.rom_size:
             sys.exit(f"{a.rom}: {len(rom_init) * 4} bytes, the ROM has {a.rom_size}")
-    soc = TwhSoC(a.variant, a.clk_hz, a.rom_size, a.sram_size, rom_init, a.channels)
+    if a.spram and (a.variant != "hw" or a.sram_size not in (0x10000, 0x20000)):
+        sys.exit("--spram: hw variant, SRAM of 64 or 128 KiB")
+    soc = TwhSoC(a.variant, a.clk_hz, a.rom_size, a.sram_size, rom_init, a.channels,
+                 cpu=a.cpu, spram=a.spram)
     out = Path(a.out).resolve()
     builder = HeaderBuilder(soc, output_dir=str(out), compile_software=False,
                             compile_gateware=False)
@@ -152,8 +178,8 @@ def main():
         f"-Wl,--defsym=__ram={sram.origin:#x} -Wl,--defsym=__ram_size={sram.size:#x}\n")
     print(f"twh_soc ({a.variant}): {out / 'gateware' / 'twh_soc.v'}, ROM "
           f"{len(rom_init) * 4}/{a.rom_size} bytes used, SRAM {a.sram_size}, "
-          f"{soc.sys_clk_freq / 1e6:g} MHz, twh at {TWH_ORIGIN:#x}, "
-          f"irq {soc.irq.locs['twh']}")
+          f"{soc.sys_clk_freq / 1e6:g} MHz, twh at {soc.bus.regions['twh'].origin:#x}, "
+          f"irq {soc.irq.locs.get('twh', 'none (the CPU takes no interrupts)')}")
 
 
 if __name__ == "__main__":
