@@ -3,18 +3,26 @@
 # with twowire-host (3 channels) added by soc/twh_litex.py; the SoC's
 # Verilog, Verilated, clocked at 4 MHz against the soak's C++ cell model
 # (sim/soak/periph.cpp) on each line; the UART output checked against
-# tb/vectors/ by soc/check_page.py, and the interrupt path with it.
+# tb/vectors/ by soc/check_page.py, and the interrupt path with it. Then the
+# same with SERV for the VexRiscv (the CPU that fits the UP5K beside three
+# channels, make bench-soc): no interrupt, the driver polls.
 #
-#   make soc         build + run + check; prints the wall time (~2 min fresh)
+#   make soc         build + run + check, both CPUs; prints the wall time
 #   make soc-lint    Verilator -Wall on the hand-written top soc/sim_top.v
 #   make bench-soc   the SoC synthesized for iCE40 UP5K and ECP5-25F
 #                    (scripts/bench_soc.py; part of make bench)
-SOC_DIR     := build/soc
+# SOC_CPU=serv: the same SoC with SERV, which takes no interrupts (the
+# driver polls), in build/soc-serv; `make soc` runs both
+SOC_CPU     ?= vexriscv
+SOC_DIR     := build/soc$(if $(filter-out vexriscv,$(SOC_CPU)),-$(SOC_CPU))
 SOC_HDR     := $(SOC_DIR)/hdr
 SOC_SIM     := $(SOC_DIR)/sim
 SOC_FW      := $(SOC_DIR)/fw
 SOC_GEN     := $(SOC_DIR)/gen
 SOC_CLK_HZ  := 4000000
+# SoC time the run may take: SERV, bit-serial, needs about 8.5 s of it for
+# what the VexRiscv does in 3.3 (its printing of the pages)
+SOC_MAX_MS  := $(if $(filter serv,$(SOC_CPU)),20000,8000)
 SOC_BIN     := $(SOC_SIM)/obj/sim_soc
 SOC_PY      := soc/twh_soc.py soc/twh_litex.py rdl/twh_regs.rdl
 SOC_LITEX   = $(shell $(PY) -c "import litex, os; print(os.path.dirname(litex.__file__))" 2>/dev/null)/soc
@@ -29,7 +37,7 @@ SOC_CFLAGS  := -std=c99 -Wall -Wextra -Werror -pedantic -Wshadow -Os \
                -ffunction-sections -fdata-sections -Isw/include -Isw/tools
 SOC_MAIN_CFLAGS = -std=gnu99 -Wall -Wextra -Werror -Wshadow -Os -march=rv32i_zicsr \
                -Isw/include -Isw/tools -I$(SOC_HDR)/software/include \
-               -I$(SOC_LITEX)/software/include -I$(SOC_LITEX)/cores/cpu/vexriscv
+               -I$(SOC_LITEX)/software/include -I$(SOC_LITEX)/cores/cpu/$(SOC_CPU)
 SOC_FW_OBJ  := $(SOC_FW)/main.o $(SOC_FW)/twh.o $(SOC_FW)/twh_decode.o $(SOC_FW)/twh_page.o
 
 # LiteX's Verilog is not -Wall clean: its warnings are not ours to fix here
@@ -43,18 +51,20 @@ BENCH_EXTRA += bench-soc
 
 soc:
 	@start=$$(date +%s); \
-	$(MAKE) --no-print-directory soc-run || exit 1; \
-	echo "make soc: PASS, wall time $$(( $$(date +%s) - start )) s"
+	$(MAKE) --no-print-directory soc-run SOC_CPU=vexriscv || exit 1; \
+	$(MAKE) --no-print-directory soc-run SOC_CPU=serv || exit 1; \
+	echo "make soc: PASS (VexRiscv, SERV), wall time $$(( $$(date +%s) - start )) s"
 
 soc-run: $(SOC_BIN) deps
-	nice $(SOC_BIN) --mem-dir $(SOC_SIM)/gateware --max-ms 8000 | tee $(SOC_DIR)/uart.log; \
+	nice $(SOC_BIN) --mem-dir $(SOC_SIM)/gateware --max-ms $(SOC_MAX_MS) | tee $(SOC_DIR)/uart.log; \
 	    test $${PIPESTATUS[0]} -eq 0
-	$(PY) soc/check_page.py $(SOC_DIR)/uart.log --clk-khz $$(( $(SOC_CLK_HZ) / 1000 ))
+	$(PY) soc/check_page.py $(SOC_DIR)/uart.log --clk-khz $$(( $(SOC_CLK_HZ) / 1000 )) \
+	    $(if $(filter serv,$(SOC_CPU)),--no-irq)
 
 # 1. the SoC without firmware: the headers (csr.h, soc.h, mem.h) the
 #    firmware is compiled against; the map is the same in step 3
 $(SOC_HDR)/software/include/generated/soc.h: $(SOC_PY) | deps
-	$(PY) soc/twh_soc.py --variant sim --out $(SOC_HDR) --clk-hz $(SOC_CLK_HZ)
+	$(PY) soc/twh_soc.py --variant sim --out $(SOC_HDR) --clk-hz $(SOC_CLK_HZ) --cpu $(SOC_CPU)
 
 # 2. the firmware
 $(SOC_FW)/main.o: soc/fw/main.c $(SOC_HDR)/software/include/generated/soc.h sw/include/twh.h sw/tools/twh_page.h
@@ -80,7 +90,8 @@ $(SOC_FW)/fw.bin: $(SOC_FW_OBJ)
 # 3. the SoC with the firmware in its ROM: the Verilog that is simulated
 #    (soc.h gains CONFIG_ROM_INIT; the map, mem.h and csr.h, must not change)
 $(SOC_SIM)/gateware/twh_soc.v: $(SOC_PY) $(SOC_FW)/fw.bin | deps
-	$(PY) soc/twh_soc.py --variant sim --out $(SOC_SIM) --clk-hz $(SOC_CLK_HZ) --rom $(SOC_FW)/fw.bin
+	$(PY) soc/twh_soc.py --variant sim --out $(SOC_SIM) --clk-hz $(SOC_CLK_HZ) --rom $(SOC_FW)/fw.bin \
+	    --cpu $(SOC_CPU)
 	@for h in mem.h csr.h; do \
 	    diff <(grep -v Auto-generated $(SOC_HDR)/software/include/generated/$$h) \
 	         <(grep -v Auto-generated $(SOC_SIM)/software/include/generated/$$h) >/dev/null \

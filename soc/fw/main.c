@@ -9,7 +9,9 @@
  * the CPU sees it: the twh line is unmasked in VexRiscv's interrupt mask
  * CSR (0xBC0) and the hook spins on the pending CSR (0xFC0, LiteX irq.h),
  * never on a core register. Counters of how each wait ended are printed at
- * the end for soc/check_page.py.
+ * the end for soc/check_page.py. A CPU that takes no interrupts (SERV: the
+ * SoC then has no TWH_INTERRUPT) gets no wait_irq hook, and the driver
+ * polls the core's STATUS instead.
  */
 #include <stdint.h>
 #include <stdio.h>
@@ -64,12 +66,14 @@ static uint64_t now_us(void *ctx)
 }
 
 /* ------------------------------------------------------------------ hooks */
+#ifdef TWH_INTERRUPT
 static struct {
     uint32_t waits;      /* wait_irq calls */
     uint32_t woke;       /* ... ended by the core's interrupt */
     uint32_t timed_out;  /* ... ended by max_us */
     uint32_t already;    /* ... found it pending on entry */
 } stats;
+#endif
 
 static uint32_t twh_read32(void *ctx, uint32_t offset)
 {
@@ -92,6 +96,7 @@ static void twh_delay_us(void *ctx, uint32_t us)
         ;
 }
 
+#ifdef TWH_INTERRUPT
 static uint32_t twh_wait_irq(void *ctx, uint32_t max_us)
 {
     const uint32_t line = 1u << TWH_INTERRUPT;
@@ -116,17 +121,21 @@ static uint32_t twh_wait_irq(void *ctx, uint32_t max_us)
     us = (uint32_t)((now - start) / CYC_PER_US);
     return us ? us : 1u;
 }
+#define WAIT_IRQ twh_wait_irq
+#else
+#define WAIT_IRQ NULL
+#endif
 
 int main(void)
 {
     twh_platform_t plat = {
-        twh_read32, twh_write32, twh_delay_us, twh_wait_irq, NULL
+        twh_read32, twh_write32, twh_delay_us, WAIT_IRQ, NULL
     };
     twh_page_opts_t o = {
         0,                       /* quick: no, the whole page */
         -1,                      /* every channel */
         2000,                    /* timeout_ms */
-        "LiteX SoC, VexRiscv",
+        "LiteX SoC, " CONFIG_CPU_HUMAN_NAME,
         NULL, NULL,
         NULL,                    /* the bus cannot fail */
         now_us,
@@ -137,18 +146,27 @@ int main(void)
 
     o.out = stdout;
     o.err = stderr;
+#ifdef TWH_INTERRUPT
     /* only the core's line: the CPU never takes the interrupt as a trap
      * (mstatus.MIE stays 0), wait_irq reads it from the pending CSR */
     irq_setmask(1u << TWH_INTERRUPT);
-    printf("soc: %s, %lu Hz, twh at 0x%08lX, irq %d\n", CONFIG_IDENTIFIER,
-           (unsigned long)CONFIG_CLOCK_FREQUENCY, (unsigned long)TWH_BASE, TWH_INTERRUPT);
+    printf("soc: %s, %s, %lu Hz, twh at 0x%08lX, irq %d\n", CONFIG_IDENTIFIER,
+           CONFIG_CPU_HUMAN_NAME, (unsigned long)CONFIG_CLOCK_FREQUENCY,
+           (unsigned long)TWH_BASE, TWH_INTERRUPT);
+#else
+    printf("soc: %s, %s, %lu Hz, twh at 0x%08lX, no irq (the driver polls)\n",
+           CONFIG_IDENTIFIER, CONFIG_CPU_HUMAN_NAME, (unsigned long)CONFIG_CLOCK_FREQUENCY,
+           (unsigned long)TWH_BASE);
+#endif
     t0 = cycles();
     rc = twh_page_run(&plat, &o);
     printf("\nsoc: twh_page_run returned %d after %lu ms of SoC time\n", rc,
            (unsigned long)((cycles() - t0) / CYC_PER_US / 1000u));
+#ifdef TWH_INTERRUPT
     printf("soc: wait_irq calls %lu, woken by the interrupt %lu (pending on entry %lu), "
            "timed out %lu\n", (unsigned long)stats.waits, (unsigned long)stats.woke,
            (unsigned long)stats.already, (unsigned long)stats.timed_out);
+#endif
     printf("soc: end\n");
     return rc;
 }

@@ -41,8 +41,9 @@ static void slurp(FILE *fp, char *buf, size_t n)
     fclose(fp);
 }
 
-/* runs the page over F; the output goes to OUT and ERR */
-static int run_page(int quick)
+/* runs the page over F (with the interrupt hook or without: the driver
+ * polls); the output goes to OUT and ERR */
+static int run_page_irq(int quick, int with_irq)
 {
     twh_platform_t p;
     twh_page_opts_t o;
@@ -60,11 +61,16 @@ static int run_page(int quick)
     o.err = err;
     o.now_us = fake_now;
     o.ctx = &F;
-    fake_platform(&F, &p, 1);
+    fake_platform(&F, &p, with_irq);
     rc = twh_page_run(&p, &o);
     slurp(out, OUT, sizeof OUT);
     slurp(err, ERR, sizeof ERR);
     return rc;
+}
+
+static int run_page(int quick)
+{
+    return run_page_irq(quick, 1);
 }
 
 /* channel ch's page (up to the next one) as a NUL-terminated copy */
@@ -251,6 +257,32 @@ static void test_page_quick(void **state)
     assert_int_equal(fake_line_count(&F, 0x46, 0x49), 0);
 }
 
+/* a platform without wait_irq (a CPU that takes no interrupts): the tool
+ * waits with delay_us and prints the same page as with the interrupt */
+static void test_page_polled(void **state)
+{
+    static char with_irq[sizeof OUT];
+
+    (void)state;
+    fake_init(&F, 2, 16);
+    fake_dev_setup(&F.dev[0], 0x12, TWH_TYPE_O2, vec_maps[0].words, vec_maps[0].n_words);
+    fake_dev_setup(&F.dev[1], 0x12, type_of(&vec_maps[1]), vec_maps[1].words,
+                   vec_maps[1].n_words);
+    assert_int_equal(run_page_irq(0, 1), 0);
+    assert_true(F.irq_waits > 0);
+    memcpy(with_irq, OUT, sizeof OUT);
+
+    fake_init(&F, 2, 16);
+    fake_dev_setup(&F.dev[0], 0x12, TWH_TYPE_O2, vec_maps[0].words, vec_maps[0].n_words);
+    fake_dev_setup(&F.dev[1], 0x12, type_of(&vec_maps[1]), vec_maps[1].words,
+                   vec_maps[1].n_words);
+    assert_int_equal(run_page_irq(0, 0), 0);
+    assert_string_equal(ERR, "");
+    assert_int_equal(F.irq_waits, 0);
+    assert_true(F.delays > 0);
+    assert_string_equal(OUT, with_irq);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -259,6 +291,7 @@ int main(void)
         cmocka_unit_test(test_page_incomplete),
         cmocka_unit_test(test_page_unknown_type),
         cmocka_unit_test(test_page_quick),
+        cmocka_unit_test(test_page_polled),
     };
 
     return cmocka_run_group_tests(tests, NULL, NULL);

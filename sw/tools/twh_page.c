@@ -234,12 +234,19 @@ static int run_queues(void (*on_result)(int ch, const item_t *it, const twh_resu
             return -1;
         if (rc == TWH_ERR_AGAIN) {
             uint64_t waited = now_us() - last;
+            uint32_t left;
 
             if (waited >= (uint64_t)S.timeout_ms * 1000u) {
                 fprintf(S.o->err, "twh_cli: no result for %lu ms\n", (unsigned long)S.timeout_ms);
                 return -1;
             }
-            S.t.plat.wait_irq(S.t.plat.ctx, (uint32_t)((uint64_t)S.timeout_ms * 1000u - waited));
+            left = (uint32_t)((uint64_t)S.timeout_ms * 1000u - waited);
+            /* wait_irq may be NULL (a CPU without interrupts): then look
+             * again after the driver's polling step, as twh_xfer does */
+            if (S.t.plat.wait_irq)
+                S.t.plat.wait_irq(S.t.plat.ctx, left);
+            else
+                S.t.plat.delay_us(S.t.plat.ctx, left < S.t.poll_us ? left : S.t.poll_us);
             if (link_failed())
                 return -1;
             continue;
