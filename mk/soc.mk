@@ -9,8 +9,8 @@
 #
 #   make soc         build + run + check, both CPUs; prints the wall time
 #   make soc-lint    Verilator -Wall on the hand-written top soc/sim_top.v
-#   make bench-soc   the SoC synthesized for iCE40 UP5K and ECP5-25F
-#                    (scripts/bench_soc.py; part of make bench)
+#   make bench-soc   the SoC synthesized for iCE40 UP5K and ECP5-25F, its table
+#                    written into docs/soc.md (scripts/bench_soc.py; part of make bench)
 # SOC_CPU=serv: the same SoC with SERV, which takes no interrupts (the
 # driver polls), in build/soc-serv; `make soc` runs both
 SOC_CPU     ?= vexriscv
@@ -118,4 +118,4 @@ soc-lint: $(SOC_SIM)/gateware/twh_soc.v
 	    tb/tb_line.v soc/sim_top.v --top-module sim_top
 
 bench-soc: $(SOC_FW)/fw.bin deps
-	$(PY) scripts/bench_soc.py
+	$(PY) scripts/bench_soc.py --write docs/soc.md

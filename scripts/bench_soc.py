@@ -28,7 +28,12 @@ project's --tmg-ripup: it takes several times as long on a design this
 size). A configuration whose memories exceed the part is reported from
 Yosys's statistics with nextpnr's reason.
 
-    bench_soc.py [--fw build/soc/fw/fw.bin] [--only up5k|ecp5-25f]
+    bench_soc.py [--fw build/soc/fw/fw.bin] [--only up5k|ecp5-25f] [--config NAME]
+                 [--write docs/soc.md]
+
+With --write (make bench-soc), a run of every configuration writes its
+table into the file between the lines WRITE_BEGIN and WRITE_END, so the
+table in docs/soc.md is always the last run's.
 """
 import argparse
 import contextlib
@@ -96,13 +101,77 @@ def yosys_only(out):
     return ram, lut, ff, why, util
 
 
+WRITE_BEGIN = "<!-- bench-soc: the table below is written by scripts/bench_soc.py --write -->"
+WRITE_END = "<!-- bench-soc: end of the written table -->"
+PART_NAME = {"up5k": "UP5K", "ecp5-25f": "ECP5-25F"}
+PART_MEM = {"up5k": ("EBR", 30), "ecp5-25f": ("DP16KD", 56)}
+PART_LOGIC = {"up5k": 5280, "ecp5-25f": 24288}
+
+
+CPU_NAME = {"vexriscv": "VexRiscv", "picorv32": "PicoRV32 (minimal)", "serv": "SERV"}
+
+
+def describe(name, rom_size, sram_size, channels, cpu, spram):
+    what = name if cpu == "vexriscv" else f"{CPU_NAME[cpu]} for the VexRiscv"
+    return (f"{what}: {channels} ch, ROM {rom_size // 1024} KiB, SRAM "
+            f"{sram_size // 1024} KiB{' in SPRAM' if spram else ''}")
+
+
+def spram_blocks(out):
+    stat = json.loads((ROOT / synth.rel(out) / "stat.json").read_text())
+    return stat["design"]["num_cells_by_type"].get("SB_SPRAM256KA", 0)
+
+
+def table_row(part, config, out, r=None, failed=None):
+    """One markdown row: r from synth.synth, or failed = (ram, lut, ff, util)."""
+    unit, total = PART_MEM[part]
+    spram = spram_blocks(out)
+    spram_txt = f", {spram} of 4 SPRAM" if spram else ""
+    if r is not None:
+        pct = 100.0 * r["logic"] / PART_LOGIC[part]
+        logic = (f"{r['logic']} LC of {PART_LOGIC[part]} ({pct:.1f} %)" if part == "up5k"
+                 else f"{r['logic']} LUT4+ (TRELLIS_COMB)")
+        ram = (f"{r['ram']} of {total} {unit}" + spram_txt
+               + (f" (+{r['lutram']} LUTRAM)" if r["lutram"] else ""))
+        fmax = f"{r['fmax']} MHz ({r['freq']:g})" + ("" if r["timing_met"] else ", missed")
+        return f"| {PART_NAME[part]} | {config} | {logic} | {r['lut']} | {r['ff']} | {ram} | {fmax} | yes |"
+    ram, lut, ff, util = failed
+    m = re.search(r"(?:ICESTORM_LC|TRELLIS_COMB) (\d+)/(\d+)", util)
+    lc = "LC" if part == "up5k" else "LUT4+"
+    logic = (f"{m.group(1)} {lc} of {m.group(2)} "
+             f"({100.0 * int(m.group(1)) / int(m.group(2)):.0f} %)" if m else "-")
+    fits = "no" if not m or int(m.group(1)) > int(m.group(2)) else "no (RAM)"
+    return (f"| {PART_NAME[part]} | {config} | {logic} | {lut} | {ff} | "
+            f"{ram} of {total} {unit}{spram_txt} | - | {fits} |")
+
+
+def write_table(path, rows, seconds):
+    text = Path(path).read_text()
+    if WRITE_BEGIN not in text or WRITE_END not in text:
+        sys.exit(f"{path}: no bench-soc markers")
+    head, rest = text.split(WRITE_BEGIN, 1)
+    _, tail = rest.split(WRITE_END, 1)
+    table = "\n".join(
+        ["| part | configuration | logic | LUT4 | FF | block RAM | Fmax (target) | fits |",
+         "|---|---|---|---|---|---|---|---|"] + rows)
+    note = (f"\n\n(Written by `make bench-soc` on {time.strftime('%Y-%m-%d')}, {seconds:.0f} s. "
+            "Rows that do not fit: the figures are nextpnr's utilisation before it gave up "
+            "placing, and Yosys's cell counts; no Fmax.)\n")
+    Path(path).write_text(head + WRITE_BEGIN + "\n" + table + note + WRITE_END + tail)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--fw", default=str(ROOT / "build" / "soc" / "fw" / "fw.bin"))
     ap.add_argument("--only", choices=[p for p, *_ in PARTS])
     ap.add_argument("--config", action="append", choices=[c[0] for c in CONFIGS],
                     help="only this configuration (repeatable)")
+    ap.add_argument("--write", help="markdown file whose bench-soc table to rewrite "
+                    "(only with every configuration and part)")
     a = ap.parse_args()
+    if a.write and (a.config or a.only):
+        sys.exit("--write needs the whole run (no --config, no --only)")
+    rows = []
     fw = Path(a.fw)
     if not fw.exists():
         sys.exit(f"{fw}: build the firmware first (make soc)")
@@ -128,7 +197,11 @@ def main():
                 ram, lut, ff, why, util = yosys_only(out)
                 print(f"{label}  DOES NOT FIT: nextpnr utilisation {util} "
                       f"(Yosys: LUT {lut}, FF {ff}, {ram} block RAMs; part: {mem}); {why}")
+                rows.append(table_row(part, describe(name, rom_size, sram_size, channels, cpu,
+                                                     spram), out, failed=(ram, lut, ff, util)))
                 continue
+            rows.append(table_row(part, describe(name, rom_size, sram_size, channels, cpu, spram),
+                                  out, r=r))
             unit = "LC" if part == "up5k" else "LUT4+"
             print(f"{label}  logic {r['logic']:5} {unit}  LUT {r['lut']:5}  FF {r['ff']:5}  "
                   f"BRAM {r['ram']:2}  LUTRAM {r['lutram']:2}  Fmax {r['fmax']:6.1f} MHz "
@@ -136,6 +209,9 @@ def main():
                   f"[{r['seconds']} s]")
             sys.stdout.flush()
     print(f"bench_soc: {time.time() - t0:.0f} s")
+    if a.write:
+        write_table(a.write, rows, time.time() - t0)
+        print(f"bench_soc: table written into {a.write}")
     return 0
 
 
