@@ -20,8 +20,13 @@ Memory configurations of the same SoC (soc/twh_soc.py --variant hw):
                  8 KiB, SRAM 64 KiB in the UP5K's SPRAM (LiteX's
                  Up5kSPRAM), block RAM left to the ROM and the core; SERV
                  takes no interrupts, so the core's irq is not wired there.
-                 Neither CPU runs the firmware in make soc (the VexRiscv
-                 does): these rows are a fit check of the logic and memories
+                 These rows are a fit check of the logic and memories: the
+                 firmware (18 KiB) does not fit their ROM; make soc runs it
+                 on SERV with the simulation's memories
+  SERV, flash    (UP5K only) SERV with no ROM: the firmware executes in
+                 place from the board's SPI flash (litespi, one bit wide,
+                 as LiteX's iCEBreaker target), the SRAM in SPRAM: what a
+                 UP5K board with the firmware of make soc would build
 The SoC clock is 24 MHz (CLK_HZ of the core); nextpnr targets 24 MHz on the
 UP5K, 50 MHz on the ECP5. ECP5 runs use nextpnr's default options (not the
 project's --tmg-ripup: it takes several times as long on a design this
@@ -51,13 +56,14 @@ import synth  # noqa: E402
 
 OUT = ROOT / "build" / "soc" / "bench"
 CLK_HZ = 24_000_000
-# name, ROM, SRAM, ROM image truncated to, channels, parts (None: all),
-# CPU, SRAM in the UP5K's SPRAM
+# name, ROM (0: the firmware runs from SPI flash), SRAM, ROM image truncated
+# to, channels, parts (None: all), CPU, SRAM in the UP5K's SPRAM
 CONFIGS = [("as simulated", 0x8000, 0x10000, None, 3, None, "vexriscv", False),
            ("small memories", 0x2000, 0x1000, 0x2000, 3, None, "vexriscv", False),
            ("small, 1 channel", 0x2000, 0x1000, 0x2000, 1, ["up5k"], "vexriscv", False),
            ("PicoRV32, SPRAM", 0x2000, 0x10000, 0x2000, 3, ["up5k"], "picorv32", True),
-           ("SERV, SPRAM", 0x2000, 0x10000, 0x2000, 3, ["up5k"], "serv", True)]
+           ("SERV, SPRAM", 0x2000, 0x10000, 0x2000, 3, ["up5k"], "serv", True),
+           ("SERV, flash", 0, 0x10000, None, 3, ["up5k"], "serv", True)]
 PARTS = [("up5k", 24.0, "30 EBR (4 kbit), 4 SPRAM (256 kbit, not inferred)"),
          ("ecp5-25f", 50.0, "56 DP16KD (18 kbit)")]
 
@@ -68,10 +74,10 @@ def gen_verilog(name, rom_size, sram_size, fw, truncate, channels, cpu, spram):
     rom = d / "fw.bin"
     data = fw.read_bytes()
     rom.write_bytes(data[:truncate] if truncate else data)
+    mem = (["--flash"] if rom_size == 0 else ["--rom-size", hex(rom_size), "--rom", str(rom)])
     subprocess.run([sys.executable, str(ROOT / "soc" / "twh_soc.py"), "--variant", "hw",
-                    "--out", str(d), "--clk-hz", str(CLK_HZ), "--rom-size", hex(rom_size),
-                    "--sram-size", hex(sram_size), "--rom", str(rom),
-                    "--channels", str(channels), "--cpu", cpu]
+                    "--out", str(d), "--clk-hz", str(CLK_HZ), "--sram-size", hex(sram_size)]
+                   + mem + ["--channels", str(channels), "--cpu", cpu]
                    + (["--spram"] if spram else []), check=True,
                    stdout=subprocess.DEVNULL)
     gw = d / "gateware"
@@ -113,7 +119,8 @@ CPU_NAME = {"vexriscv": "VexRiscv", "picorv32": "PicoRV32 (minimal)", "serv": "S
 
 def describe(name, rom_size, sram_size, channels, cpu, spram):
     what = name if cpu == "vexriscv" else f"{CPU_NAME[cpu]} for the VexRiscv"
-    return (f"{what}: {channels} ch, ROM {rom_size // 1024} KiB, SRAM "
+    rom = f"ROM {rom_size // 1024} KiB" if rom_size else "firmware in SPI flash, no ROM"
+    return (f"{what}: {channels} ch, {rom}, SRAM "
             f"{sram_size // 1024} KiB{' in SPRAM' if spram else ''}")
 
 
@@ -140,7 +147,13 @@ def table_row(part, config, out, r=None, failed=None):
     lc = "LC" if part == "up5k" else "LUT4+"
     logic = (f"{m.group(1)} {lc} of {m.group(2)} "
              f"({100.0 * int(m.group(1)) / int(m.group(2)):.0f} %)" if m else "-")
-    fits = "no" if not m or int(m.group(1)) > int(m.group(2)) else "no (RAM)"
+    r_m = re.search(r"(?:ICESTORM_RAM|DP16KD) (\d+)/(\d+)", util)
+    if not m or int(m.group(1)) > int(m.group(2)):
+        fits = "no"
+    elif r_m and int(r_m.group(1)) > int(r_m.group(2)):
+        fits = "no (RAM)"
+    else:
+        fits = "no (placement)"     # every count fits, nextpnr found no legal placement
     return (f"| {PART_NAME[part]} | {config} | {logic} | {lut} | {ff} | "
             f"{ram} of {total} {unit}{spram_txt} | - | {fits} |")
 
@@ -186,7 +199,8 @@ def main():
             if (a.only and part != a.only) or (only and part not in only):
                 continue
             out = d / part
-            label = (f"{part:9} {name:16} {channels} ch, ROM {rom_size // 1024:2} KiB "
+            rom_txt = f"ROM {rom_size // 1024:2} KiB" if rom_size else "SPI flash "
+            label = (f"{part:9} {name:16} {channels} ch, {rom_txt} "
                      f"SRAM {sram_size // 1024:2} KiB{' (SPRAM)' if spram else ''}")
             try:
                 # synth.py prints the tail of a failed tool's log: the

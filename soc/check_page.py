@@ -65,7 +65,7 @@ def main():
         if "no irq (the driver polls)" not in text or m:
             fails.append("expected a run without the interrupt (--no-irq)")
         else:
-            print("check_page: no interrupt: the driver polled STATUS")
+            print("check_page: no interrupt: the driver polled RES_INFO")
     elif not m:
         fails.append("no wait_irq statistics")
     else:

@@ -145,8 +145,9 @@ class TwoWireHost(Module):
 def add_twh(soc, name="twh", pads=None, channels=1, fifo_depth=16, origin=None):
     """Adds a TwoWireHost to a LiteX SoC: its Wishbone window (uncached:
     put `origin` in an IO region, or let LiteX place it), its interrupt
-    (when the CPU takes interrupts: without, software polls the core's
-    STATUS and the irq pin is left unused), and constants for software (<NAME>_CHANNELS, <NAME>_REG_<REG> offsets,
+    (when the CPU takes interrupts; without, the irq pin is left unused
+    and software polls the core: the C driver with no wait_irq hook), and
+    constants for software (<NAME>_CHANNELS, <NAME>_REG_<REG> offsets,
     <NAME>_CH_BASE/_CH_STRIDE, from the RDL)."""
     twh = TwoWireHost(soc.platform, pads, soc.sys_clk_freq, channels, fifo_depth)
     setattr(soc.submodules, name, twh)

@@ -8,8 +8,9 @@ soc/twh_litex.py.
     twh_soc.py --variant hw  --out build/soc/hw  [--rom fw.bin] [--cpu serv] [--spram]
 
 --cpu picorv32 / serv put one of the smaller RV32I CPUs in place of the
-VexRiscv (scripts/bench_soc.py's UP5K fit check; make soc simulates the
-VexRiscv only), --spram the SRAM in the UP5K's SPRAM blocks.
+VexRiscv (make soc simulates the VexRiscv and SERV; scripts/bench_soc.py's
+UP5K fit check takes PicoRV32 and SERV), --spram the SRAM in the UP5K's
+SPRAM blocks (hw only).
 
 Writes OUT/gateware/twh_soc.v (+ the ROM/RAM .init files and sources.f,
 every Verilog file the SoC needs), OUT/software/include/generated/ (csr.h,
@@ -44,12 +45,14 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from twh_litex import add_twh  # noqa: E402
 
 CHANNELS = 3
-# the CPUs the SoC can carry, each in its smallest RV32I variant: VexRiscv
-# (simulated by make soc), and the two smaller ones of issue 19's question
-# (does a PicoRV32/SERV-class CPU fit beside three channels on a UP5K?),
-# whose Verilog comes from their pythondata packages
+# the CPUs the SoC can carry, each in its smallest RV32I variant: the
+# VexRiscv, and the two smaller ones of issue 19's question (does a
+# PicoRV32/SERV-class CPU fit beside three channels on a UP5K?), whose
+# Verilog comes from their pythondata packages
 CPU_VARIANT = {"vexriscv": "minimal", "picorv32": "minimal", "serv": "standard"}
 TWH_ORIGIN = 0x82000000        # in VexRiscv's uncached IO region (0x80000000+)
+FLASH_ORIGIN = 0x20000000      # --flash: the SPI flash's window
+FLASH_FW_OFFSET = 0x100000     # ... and the firmware in it, behind the bitstream
 
 
 def _io(variant, channels):
@@ -66,6 +69,8 @@ def _io(variant, channels):
                    Subsignal("sink_data", Pins(8))))
     else:
         io.append(("serial", 0, Subsignal("tx", Pins(1)), Subsignal("rx", Pins(1))))
+        io.append(("spiflash", 0, Subsignal("cs_n", Pins(1)), Subsignal("clk", Pins(1)),
+                   Subsignal("mosi", Pins(1)), Subsignal("miso", Pins(1))))
     return io
 
 
@@ -108,17 +113,29 @@ class TwhSoC(SoCCore):
     mem_map = {**SoCCore.mem_map}
 
     def __init__(self, variant, clk_hz, rom_size, sram_size, rom_init, channels=CHANNELS,
-                 cpu="vexriscv", spram=False):
+                 cpu="vexriscv", spram=False, flash=False):
         platform = VerilogPlatform("", _io(variant, channels), name="twh_soc")
+        if flash:
+            self.mem_map = {**SoCCore.mem_map, "spiflash": FLASH_ORIGIN}
         SoCCore.__init__(self, platform, clk_hz,
                          cpu_type=cpu, cpu_variant=CPU_VARIANT[cpu],
-                         integrated_rom_size=rom_size, integrated_rom_init=rom_init,
+                         cpu_reset_address=FLASH_ORIGIN + FLASH_FW_OFFSET if flash else None,
+                         integrated_rom_size=0 if flash else rom_size,
+                         integrated_rom_init=[] if flash else rom_init,
                          integrated_sram_size=0 if spram else sram_size,
                          uart_name="sim" if variant == "sim" else "serial",
                          uart_baudrate=115200,
                          with_timer=True, timer_uptime=True,
                          ident="twowire-host LiteX SoC", ident_version=False)
         self.crg = _CRG(platform)
+        if flash:
+            # the firmware executed in place from the board's SPI flash (one
+            # bit wide, as the iCEBreaker's LiteX target), behind the
+            # bitstream: no block RAM for a ROM
+            from litespi.modules import W25Q128JV
+            from litespi.opcodes import SpiNorFlashOpCodes
+            self.add_spi_flash(mode="1x", module=W25Q128JV(SpiNorFlashOpCodes.READ_1_1_1),
+                               with_master=False)
         if spram:
             # the UP5K's single-port RAM blocks (two side by side: 32 bits,
             # 64 KiB), leaving the block RAM to the ROM and the core
@@ -152,6 +169,8 @@ def main():
     ap.add_argument("--cpu", choices=sorted(CPU_VARIANT), default="vexriscv")
     ap.add_argument("--spram", action="store_true",
                     help="SRAM in the iCE40 UP5K's SPRAM (hw only; 64 or 128 KiB)")
+    ap.add_argument("--flash", action="store_true",
+                    help="no ROM: the firmware runs from SPI flash (hw only)")
     ap.add_argument("-v", "--verbose", action="store_true", help="LiteX's own log")
     a = ap.parse_args()
     if not a.verbose:
@@ -164,20 +183,28 @@ def main():
             sys.exit(f"{a.rom}: {len(rom_init) * 4} bytes, the ROM has {a.rom_size}")
     if a.spram and (a.variant != "hw" or a.sram_size not in (0x10000, 0x20000)):
         sys.exit("--spram: hw variant, SRAM of 64 or 128 KiB")
+    if a.flash and a.variant != "hw":
+        sys.exit("--flash: hw variant")
     soc = TwhSoC(a.variant, a.clk_hz, a.rom_size, a.sram_size, rom_init, a.channels,
-                 cpu=a.cpu, spram=a.spram)
+                 cpu=a.cpu, spram=a.spram, flash=a.flash)
     out = Path(a.out).resolve()
     builder = HeaderBuilder(soc, output_dir=str(out), compile_software=False,
                             compile_gateware=False)
     builder.build(build_name="twh_soc", run=False)
     (out / "regions.ld").write_text(export.get_linker_regions(soc.mem_regions))
     # the same regions for picolibc's linker script (picolibc.ld)
-    rom, sram = soc.mem_regions["rom"], soc.mem_regions["sram"]
+    sram = soc.mem_regions["sram"]
+    if a.flash:
+        flash_origin = FLASH_ORIGIN + FLASH_FW_OFFSET
+        flash_size = soc.mem_regions["spiflash"].size - FLASH_FW_OFFSET
+    else:
+        flash_origin, flash_size = soc.mem_regions["rom"].origin, soc.mem_regions["rom"].size
     (out / "fw_ldflags").write_text(
-        f"-Wl,--defsym=__flash={rom.origin:#x} -Wl,--defsym=__flash_size={rom.size:#x} "
+        f"-Wl,--defsym=__flash={flash_origin:#x} -Wl,--defsym=__flash_size={flash_size:#x} "
         f"-Wl,--defsym=__ram={sram.origin:#x} -Wl,--defsym=__ram_size={sram.size:#x}\n")
-    print(f"twh_soc ({a.variant}): {out / 'gateware' / 'twh_soc.v'}, ROM "
-          f"{len(rom_init) * 4}/{a.rom_size} bytes used, SRAM {a.sram_size}, "
+    rom_txt = (f"firmware in SPI flash at {flash_origin:#x}" if a.flash else
+               f"ROM {len(rom_init) * 4}/{a.rom_size} bytes used")
+    print(f"twh_soc ({a.variant}): {out / 'gateware' / 'twh_soc.v'}, {rom_txt}, SRAM {a.sram_size}, "
           f"{soc.sys_clk_freq / 1e6:g} MHz, twh at {soc.bus.regions['twh'].origin:#x}, "
           f"irq {soc.irq.locs.get('twh', 'none (the CPU takes no interrupts)')}")
 

@@ -11,7 +11,7 @@
  * never on a core register. Counters of how each wait ended are printed at
  * the end for soc/check_page.py. A CPU that takes no interrupts (SERV: the
  * SoC then has no TWH_INTERRUPT) gets no wait_irq hook, and the driver
- * polls the core's STATUS instead.
+ * reads RES_INFO again after each polling step instead.
  */
 #include <stdint.h>
 #include <stdio.h>
