@@ -63,7 +63,8 @@ module twh_channel #(
     output wire        line_o,
     output wire        line_oe,
     input  wire        line_i,
-    output wire        busy
+    output wire        busy,
+    output reg         status_busy
 );
     (* anyseq *) reg        f_take, f_done;
     (* anyseq *) reg [3:0]  f_status;
@@ -119,6 +120,14 @@ module twh_channel #(
         poll_sample   <= f_sample;
         poll_error    <= f_perr;
     end
+
+    // STATUS.BUSY as twh_channel builds it: what it reports now, or a slot
+    // load (the stand-in's take needs a full slot); never 0 while that is 1
+    always @(posedge clk)
+        status_busy <= !rst && (eng || slot_full || res_valid || slot_load);
+    reg f_run = 1'b0;
+    always @(posedge clk) f_run <= !rst;
+    always @(*) if (f_run && !rst && (eng || slot_full || res_valid)) assert(status_busy);
 
     assign busy        = eng;
     assign poll_ctrl   = {15'd0, s_skip, s_tag, s_cmd};

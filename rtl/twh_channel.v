@@ -59,7 +59,8 @@ module twh_channel #(
     output wire        line_o,
     output wire        line_oe,
     input  wire        line_i,
-    output wire        busy
+    output wire        busy,           // the engine's (the core's proofs)
+    output reg         status_busy     // STATUS.BUSY (see below)
 );
     // ------------------------------------------------------------ registers
     reg [7:0]  poll_cmd, poll_payload;
@@ -185,6 +186,7 @@ module twh_channel #(
     wire [3:0]  e_status;
     wire [5:0]  e_tag;
     wire [2:0]  phase;
+    wire        link_busy;
     wire        e_is_poll = (POLLING != 0) && e_tag[5];
 
     twh_link #(.CLK_HZ(CLK_HZ), .TAG_W(6)) u_link (
@@ -200,7 +202,7 @@ module twh_channel #(
         .m_res_code(e_code), .m_res_data(e_data), .m_res_status(e_status),
         .m_res_tag(e_tag),
         .line_o(line_o), .line_oe(line_oe), .line_i(line_i),
-        .phase(phase), .busy(busy)
+        .phase(phase), .busy(link_busy)
     );
 
     wire link_err = (e_status >= `TWH_ST_BAD_CHECKSUM) && (e_status <= `TWH_ST_LINE_STUCK_HIGH);
@@ -232,7 +234,23 @@ module twh_channel #(
 
     assign poll_ctrl   = {poll_en, poll_interval, poll_payload, poll_cmd};
     assign poll_result = {poll_count, poll_status, poll_data};
-    assign state       = {27'd0, slot_full, busy, phase};
+    // STATUS.BUSY (a command in the slot, in the engine or its result
+    // waiting) and STATE.BUSY (the engine's) are flip-flops, so the core's
+    // answer registers take them with no engine decode in front (ECP5's
+    // three-channel paths ran from the engine's phase through them). Each
+    // loads what it reports now or an event that makes it true in the next
+    // clock (a slot load, an accept; for STATE, of a command that is sent):
+    // it is never 0 while what it reports
+    // is 1, and reads 1 at most one clock after that has ended (proven
+    // below), so STATUS saying everything was answered still means it.
+    assign busy = link_busy;
+    reg state_busy;
+    always @(posedge clk) begin
+        // (a skipped command is answered at once and never makes the engine busy)
+        state_busy  <= !rst && (link_busy || (taken && (use_poll_q || slot_skip == 4'd0)));
+        status_busy <= !rst && (link_busy || slot_full || res_valid || slot_load || taken);
+    end
+    assign state       = {27'd0, slot_full, state_busy, phase};
 
 `ifdef FORMAL
     // ================================================================ formal
@@ -282,6 +300,18 @@ module twh_channel #(
 
     wire [7:0] f_code = use_poll_q ? poll_cmd : slot_cmd;     // what the engine is offered
     wire [3:0] f_skip = use_poll_q ? 4'd0 : slot_skip;
+
+    // STATUS.BUSY and STATE.BUSY: never 0 while what they report is 1, and
+    // 1 only while it is or a clock after it was
+    wire f_sbusy_now = link_busy || slot_full || res_valid;
+    always @(posedge clk) begin
+        if (f_run && !rst) begin
+            if (f_sbusy_now) assert(status_busy);
+            if (link_busy)   assert(state_busy);
+            if (status_busy) assert(f_sbusy_now || $past(f_sbusy_now));
+            if (state_busy)  assert(link_busy || $past(link_busy));
+        end
+    end
 
     always @(*) begin
         if (f_ok) begin

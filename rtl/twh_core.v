@@ -399,7 +399,10 @@ module twh_core #(
 
     // ------------------------------------------------------------ channels
     wire [CHANNELS*32-1:0] c_pc, c_pr, c_st;
-    wire [CHANNELS-1:0] c_sample, c_poll_err, c_busy;
+    wire [CHANNELS-1:0] c_sample, c_poll_err, c_sbusy;
+    // verilator lint_off UNUSEDSIGNAL
+    wire [CHANNELS-1:0] c_busy;     // the engines' busy: the proofs' (STATUS reads c_sbusy)
+    // verilator lint_on UNUSEDSIGNAL
     wire [CHANNELS*3-1:0] c_nx_fld;
 
     // A channel register write starts from the request stage: its value's
@@ -453,7 +456,7 @@ module twh_core #(
                 .res_cmd(c_res_cmd[n*8 +: 8]), .res_data(c_res_data[n*16 +: 16]),
                 .res_status(c_res_status[n*4 +: 4]), .res_tag(c_res_tag[n*5 +: 5]),
                 .line_o(line_o[n]), .line_oe(line_oe[n]), .line_i(line_i[n]),
-                .busy(c_busy[n])
+                .busy(c_busy[n]), .status_busy(c_sbusy[n])
             );
         end
     endgenerate
@@ -467,7 +470,7 @@ module twh_core #(
                 assign sample8[n]      = c_sample[n];
                 // queued (slot), running (engine), or its result waiting
                 // for the result FIFO
-                assign busy8[n]        = c_busy[n] || slot_full[n] || c_res_valid[n];
+                assign busy8[n]        = c_sbusy[n];
             end else begin : g_off
                 assign slot_full8[n]   = 1'b0;
                 assign c_res_valid8[n] = 1'b0;
