@@ -240,9 +240,9 @@ module twh_channel #(
     // three-channel paths ran from the engine's phase through them). Each
     // loads what it reports now or an event that makes it true in the next
     // clock (a slot load, an accept; for STATE, of a command that is sent):
-    // it is never 0 while what it reports
-    // is 1, and reads 1 at most one clock after that has ended (proven
-    // below), so STATUS saying everything was answered still means it.
+    // it is never 0 while what it reports is 1, and reads 1 at most one
+    // clock after that has ended (proven below), so STATUS saying
+    // everything was answered still means it.
     assign busy = link_busy;
     reg state_busy;
     always @(posedge clk) begin
