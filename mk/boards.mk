@@ -60,11 +60,11 @@ $(BOARD_DIR)/$(1)/params: board-force
 	@echo "CHANNELS=$(BOARD_CHANNELS) BAUD=$(BOARD_BAUD)" > $$@.new
 	@if cmp -s $$@.new $$@; then rm $$@.new; else mv $$@.new $$@; fi
 
-$(BOARD_DIR)/$(1)/synth.json: $(BOARD_RTL) $(wildcard boards/$(1)/*.v) $(BOARD_DIR)/$(1)/params | deps
+$(BOARD_DIR)/$(1)/synth.json: $(BOARD_RTL) $(wildcard boards/$(1)/*.v) $(BOARD_DIR)/$(1)/params scripts/synth.py | deps
 	@echo "yosys: synth_$(BOARD_FAM_$(1)) $(BOARD_TOP_$(1)) CHANNELS=$(BOARD_CHANNELS) BAUD=$(BOARD_BAUD)"
 	@$(YOWASP)yosys -q -l $$(@D)/yosys.log -p "read_verilog -Irtl $(sort $(wildcard rtl/*.v)) $(wildcard boards/$(1)/*.v); \
 	    hierarchy -top $(BOARD_TOP_$(1)) -chparam CHANNELS $(BOARD_CHANNELS) -chparam BAUD $(BOARD_BAUD); \
-	    synth_$(BOARD_FAM_$(1)) -top $(BOARD_TOP_$(1)) -json $$@" >/dev/null
+	    synth_$(BOARD_FAM_$(1)) $$$$($(PY) scripts/synth.py --synth-flow $(BOARD_FAM_$(1))) -top $(BOARD_TOP_$(1)) -json $$@" >/dev/null
 	@$(call BOARD_NO_WARN,$$(@D)/yosys.log)
 
 board-$(1): $(BOARD_DIR)/$(1)/$(BOARD_TOP_$(1)).$(if $(filter ice40,$(BOARD_FAM_$(1))),bin,bit)

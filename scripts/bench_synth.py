@@ -130,22 +130,28 @@ def board_runs(runs):
 
 
 def seed_spread(part, top, params, files, mhz, name, constraints=None, first=None,
-                default_pnr=False):
+                default_flow=False):
     """Fmax over SEEDS (the seed-1 run given as first is reused); with
-    default_pnr, nextpnr without the flow's options (synth.PNR_FLOW).
+    default_flow, Yosys and nextpnr without the flow's options
+    (synth.SYNTH_FLOW, synth.PNR_FLOW), and the seed-1 logic cells shown.
     Returns the printed line and the median."""
     fmax = [first["fmax"]] if first else []
-    tag = "-default-pnr" if default_pnr else ""
+    tag = "-default-flow" if default_flow else ""
+    cells = None
     for seed in SEEDS[1 if first else 0:]:
         r = synth.synth(part, top, params, files, mhz,
                         ROOT / "build" / "bench" / f"{name}{tag}-seed{seed}",
-                        constraints=constraints, seed=seed, default_pnr=default_pnr)
+                        constraints=constraints, seed=seed, default_pnr=default_flow,
+                        default_synth=default_flow)
         fmax.append(r["fmax"])
+        if cells is None:
+            cells = r["logic"]
     srt = sorted(fmax)
     met = sum(f >= mhz for f in fmax)
     line = (f"- {name}{tag}: {' / '.join(f'{f:.1f}' for f in fmax)} MHz "
             f"(min {srt[0]:.1f}, median {srt[len(srt) // 2]:.1f}, max {srt[-1]:.1f}; "
-            f"{met} of {len(fmax)} seeds reach {mhz:g})")
+            f"{met} of {len(fmax)} seeds reach {mhz:g})"
+            + (f"; {cells} logic cells at seed {SEEDS[0]}" if default_flow else ""))
     print(line, flush=True)
     return line, srt[len(srt) // 2]
 
@@ -286,36 +292,37 @@ def run(a):
     # the core on each part with a goal, and the UP5K through the
     # iCEBreaker board top at its 48 MHz goal (not the board clock, so its
     # seed-1 run is a run of its own); at one channel each also without the
-    # flow's nextpnr options (where the part's family has any), so the
-    # table shows what they buy
+    # flow's Yosys and nextpnr options (where the part's family has any), so
+    # the table shows what they buy
     spread, spread_default, medians = [], [], {}
 
     def flows(part, ch):
         fam = synth.PARTS[part]["family"]
-        return ((False, spread), (True, spread_default)) if synth.PNR_FLOW[fam] and ch == 1 \
+        return ((False, spread), (True, spread_default)) \
+            if (synth.PNR_FLOW[fam] or synth.SYNTH_FLOW[fam]) and ch == 1 \
             else ((False, spread),)
     for part, mhz in CORE_RUNS:
         for ch in CHANNELS:
             name = f"{part}-twh_wb-{ch}"
-            for default_pnr, out in flows(part, ch):
+            for default_flow, out in flows(part, ch):
                 line, median = seed_spread(part, "twh_wb", {"CHANNELS": str(ch), **FIFO},
                                            synth.core_sources(), mhz, name,
-                                           first=None if default_pnr else runs.get(name),
-                                           default_pnr=default_pnr)
+                                           first=None if default_flow else runs.get(name),
+                                           default_flow=default_flow)
                 out.append(line)
-                if not default_pnr:
+                if not default_flow:
                     medians[(part, ch)] = median
     if not a.no_boards and (ROOT / "constraints" / "icebreaker.pcf").exists():
         for ch in CHANNELS:
-            for default_pnr, out in flows("up5k", ch):
+            for default_flow, out in flows("up5k", ch):
                 line, median = seed_spread(
                     "up5k", "twh_icebreaker", {"CHANNELS": str(ch)},
                     synth.core_sources() + board_sources("icebreaker"), FMAX_GOALS["up5k"],
                     f"up5k-icebreaker-{ch}",
                     constraints=ROOT / "constraints" / "icebreaker.pcf",
-                    default_pnr=default_pnr)
+                    default_flow=default_flow)
                 out.append(line)
-                if not default_pnr:
+                if not default_flow:
                     medians[("up5k", ch)] = median
     pieces = piece_runs()
     per_ch = []
@@ -334,6 +341,8 @@ def run(a):
         body = "\n".join(fmt_row(r, w) for w, r in rows)
         flow = "; ".join(f"{fam} {' '.join(f'`{o}`' for o in opts) or 'none'}"
                          for fam, opts in synth.PNR_FLOW.items())
+        yflow = "; ".join(f"{fam} {' '.join(f'`{o}`' for o in opts) or 'none'}"
+                          for fam, opts in synth.SYNTH_FLOW.items())
         lean = ", ".join(f"{k} = {v}" for k, v in LEAN.items())
         text = f"""# Resources and Fmax
 
@@ -342,8 +351,9 @@ edit by hand. The figures are what the tools print: logic cells and Fmax
 from nextpnr's report (`--report`, seed 1), flip-flops and block RAMs from
 Yosys's statistics. The bare core's pins are placed freely (no constraint
 file); the board tops use the board constraints in `constraints/`.
-nextpnr runs with the flow's options (scripts/synth.py, `PNR_FLOW`):
-{flow}; the goal configurations at one channel are also shown without them.
+Yosys and nextpnr run with the flow's options (scripts/synth.py,
+`SYNTH_FLOW`: {yflow}; `PNR_FLOW`: {flow}); the goal configurations at one
+channel are also shown without them.
 The full feature set is the parameters' default; the lean build is
 {lean} (fixed spec timing, no poller), the 16-deep FIFOs kept.
 
@@ -365,7 +375,7 @@ Fmax of the goal configurations over nextpnr placer seeds {', '.join(map(str, SE
 not its 12 MHz board clock):
 {chr(10).join(spread)}
 
-The same without the flow's nextpnr options (one channel):
+The same without the flow's Yosys and nextpnr options (one channel):
 {chr(10).join(spread_default)}
 
 ## Goals of issue 19

