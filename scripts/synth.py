@@ -52,9 +52,9 @@ PNR_FLOW = {"ice40": [], "ecp5": ["--tmg-ripup"]}
 # and places with it (seeds 1-3). On the bare core it also packs a little
 # tighter (HX8K, seed 1: 1267 / 2605 logic cells at one / three channels
 # against 1280 / 2634; three-channel Fmax over seeds 1-3 144-148 MHz against
-# 127-138). 8 instead of 4: the SoC missed its 24 MHz. ECP5 has no such
-# option; its slices are not split the same way. `--default-flow` leaves
-# these and PNR_FLOW out, so make bench can print both.
+# 127-138). 8 instead of 4: the SoC missed its 24 MHz (seed 1).
+# synth_ecp5 has no such option. `--default-flow` leaves these and
+# PNR_FLOW out, so make bench can print both.
 SYNTH_FLOW = {"ice40": ["-dffe_min_ce_use", "4"], "ecp5": []}
 
 
