@@ -73,10 +73,13 @@ PARTS = [("up5k", 24.0, "30 EBR (4 kbit), 4 SPRAM (256 kbit, not inferred)"),
 def gen_verilog(name, rom_size, sram_size, fw, truncate, channels, cpu, spram):
     d = OUT / re.sub(r"\W+", "_", name)
     d.mkdir(parents=True, exist_ok=True)
-    rom = d / "fw.bin"
-    data = fw.read_bytes()
-    rom.write_bytes(data[:truncate] if truncate else data)
-    mem = (["--flash"] if rom_size == 0 else ["--rom-size", hex(rom_size), "--rom", str(rom)])
+    if rom_size == 0:
+        mem = ["--flash"]               # no ROM: nothing to write its image for
+    else:
+        rom = d / "fw.bin"
+        data = fw.read_bytes()
+        rom.write_bytes(data[:truncate] if truncate else data)
+        mem = ["--rom-size", hex(rom_size), "--rom", str(rom)]
     subprocess.run([sys.executable, str(ROOT / "soc" / "twh_soc.py"), "--variant", "hw",
                     "--out", str(d), "--clk-hz", str(CLK_HZ), "--sram-size", hex(sram_size)]
                    + mem + ["--channels", str(channels), "--cpu", cpu]
