@@ -128,12 +128,18 @@ def _build_verilator(runner, toplevel, sources, parameters):
 
 
 def run(toplevel, test_module, name, *, parameters=None, testcase=None,
-        tb_sources=(), plusargs=(), extra_env=None, vcd=False, sim="icarus", seed_name=None):
+        tb_sources=(), plusargs=(), extra_env=None, vcd=False, sim="icarus", seed_name=None,
+        design=None, defines=None):
     """seed_name: the run whose shared seed (seed_of) this one takes, for a
     run that has a twin on the other simulator; None: the runner's own
-    (COCOTB_RANDOM_SEED, else a random one)."""
-    # tb_line.v (the simulated line) serves every test-bench top
-    sources = [*rtl_sources(), TB_DIR / "tb_line.v", *(TB_DIR / s for s in tb_sources)]
+    (COCOTB_RANDOM_SEED, else a random one). design: the sources of the
+    design instead of rtl/ (a netlist and its cell models; Icarus only),
+    defines: Verilog macros for the build (Icarus only)."""
+    # tb_line.v (the simulated line) serves every test-bench top; a design
+    # given goes last, so a `timescale of its cell models sets no bench file's
+    sources = [*(() if design else rtl_sources()), TB_DIR / "tb_line.v",
+               *(TB_DIR / s for s in tb_sources), *(design or ())]
+    assert sim == "icarus" or not (design or defines), "netlists run on Icarus"
     test_dir = ROOT / "build" / "sim" / name
     if sim == "verilator":
         runner = get_runner("verilator")
@@ -149,6 +155,7 @@ def run(toplevel, test_module, name, *, parameters=None, testcase=None,
             parameters=parameters or {},
             build_dir=build_dir,
             timescale=("1ns", "1ps"),
+            defines=defines or {},
             always=True,
         )
     env = {"PYTHONPATH": os.environ.get("PYTHONPATH", str(TB_DIR))}

@@ -1103,7 +1103,8 @@ CORE_SOURCES = ["tb_core.v"]
 
 
 def run_core(testcase, bus, clk_hz=12_000_000, channels=3, fifo_depth=16, env=None,
-             features=None, sim="icarus", name=None, seed_name=None):
+             features=None, sim="icarus", name=None, seed_name=None, design=None, defines=None):
+    """design, defines: simrun.run's (tb/test_netlist.py)"""
     name = name or core_name(testcase, bus, channels)
     extra = {"TWH_BUS": str(bus), "TWH_CHANNELS": str(channels),
              "TWH_FIFO_DEPTH": str(fifo_depth), "TWH_CLK_HZ": str(clk_hz)}
@@ -1112,7 +1113,7 @@ def run_core(testcase, bus, clk_hz=12_000_000, channels=3, fifo_depth=16, env=No
                parameters={"CLK_HZ": clk_hz, "CHANNELS": channels,
                            "FIFO_DEPTH": fifo_depth, "BUS": bus, **(features or {})},
                testcase=testcase, tb_sources=CORE_SOURCES, extra_env=extra, sim=sim,
-               seed_name=seed_name)
+               seed_name=seed_name, design=design, defines=defines)
 
 
 def core_name(testcase, bus, channels):
