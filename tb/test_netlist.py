@@ -1,15 +1,15 @@
 """The iCE40 flow's netlist of the core against the core's own tests.
 
-scripts/synth.py's SYNTH_FLOW lets ABC9 map the iCE40 build with its
-flip-flops in view (-dff): it may merge flip-flops that always agree and
-fold logic across them, which is sound only from the state the hardware
-starts in. The RTL's proofs and tests say nothing about that netlist, so
-here it is: twh_wb at three channels and 4 MHz (Wishbone, 16-deep FIFOs)
-synthesized exactly as the iCE40 builds are (Yosys with SYNTH_FLOW, no
-placement), simulated on Icarus with Yosys's iCE40 cell models, under the
-same cocotb cases as the RTL: the peripheral models answer, the spec
-monitors time every transaction, and every result is checked. Only the
-waveform names the RTL shows are absent (tb_core.v, TWH_NETLIST).
+The RTL's proofs and tests say nothing about what synthesis makes of it:
+block RAM inference with its read-during-write choices (the memories are
+no_rw_check), flip-flops without reset values, the flow's own options
+(scripts/synth.py, SYNTH_FLOW). So here is the netlist: twh_wb at three
+channels and 4 MHz (Wishbone, 16-deep FIFOs) synthesized as the iCE40
+builds are (Yosys with SYNTH_FLOW, no placement), simulated on Icarus with
+Yosys's iCE40 cell models, under the same cocotb cases as the RTL: the
+peripheral models answer, the spec monitors time every transaction, and
+every result is checked. Only the waveform names the RTL shows are absent
+(tb_core.v, TWH_NETLIST).
 
 The flip-flops start at 0 in the models, as they do in the iCE40 after
 configuration.
