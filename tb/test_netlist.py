@@ -38,8 +38,8 @@ def _cells():
 
 CLK_HZ, CHANNELS, FIFO_DEPTH = 4_000_000, 3, 16
 # the RTL cases of this configuration that cover the command path, the
-# poller, the register rules and the error paths; a netlist case is some
-# ten times an RTL one on Icarus
+# poller, the register rules and the error paths; a netlist case takes three
+# to four times an RTL one on Icarus
 CASES = ["three_channels", "polling", "factory_protection", "irq_and_flush"]
 
 
