@@ -97,13 +97,15 @@ def yosys_front(top, params, files):
             + "".join(f" -chparam {k} {v}" for k, v in params.items()))
 
 
-def netlist(top, params, out_v, files=None):
-    """The iCE40 flow's netlist of `top` (SYNTH_FLOW, no placement) as
-    Verilog, its module renamed <top>_netlist, for a simulation against the
-    RTL's tests (tb/test_netlist.py). Rebuilt only when a source or this
-    script is newer. Raises on a Yosys warning."""
+def netlist(top, params, files=None):
+    """The iCE40 flow's netlist of `top` with `params` (SYNTH_FLOW, no
+    placement) as Verilog, its module renamed <top>_netlist, for a
+    simulation against the RTL's tests (tb/test_netlist.py); its path names
+    the parameters, so another set is another file. Rebuilt only when a
+    source or this script is newer. Raises on a Yosys warning."""
     files = [rel(f) for f in (files or core_sources())]
-    out_v = ROOT / rel(out_v)
+    tag = "-".join(f"{k}{v}" for k, v in sorted(params.items()))
+    out_v = ROOT / "build" / "netlist" / f"{top}-{tag}.v"
     out_v.parent.mkdir(parents=True, exist_ok=True)
     # one build at a time (parallel test workers ask for the same netlist)
     with open(out_v.with_suffix(".lock"), "w") as lock:
