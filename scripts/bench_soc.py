@@ -27,6 +27,10 @@ Memory configurations of the same SoC (soc/twh_soc.py --variant hw):
                  place from the board's SPI flash (litespi, one bit wide,
                  as LiteX's iCEBreaker target), the SRAM in SPRAM: what a
                  UP5K board with the firmware of make soc would build
+  PicoRV32, SPRAM, lean core  (UP5K only) the PicoRV32 row with the
+                 core's lean build (PROG_TIMING = 0, POLLING = 0: fixed
+                 spec timing, no poller), what a fixed-timing board with
+                 three cells would pick; a fit check like the PicoRV32 row
 The SoC clock is 24 MHz (CLK_HZ of the core); nextpnr targets 24 MHz on the
 UP5K, 50 MHz on the ECP5. Yosys runs with the flow's options (iCE40:
 -dffe_min_ce_use 4, without which the flash build does not place); ECP5
@@ -59,18 +63,21 @@ import synth  # noqa: E402
 OUT = ROOT / "build" / "soc" / "bench"
 CLK_HZ = 24_000_000
 # name, ROM (0: the firmware runs from SPI flash), SRAM, ROM image truncated
-# to, channels, parts (None: all), CPU, SRAM in the UP5K's SPRAM
-CONFIGS = [("as simulated", 0x8000, 0x10000, None, 3, None, "vexriscv", False),
-           ("small memories", 0x2000, 0x1000, 0x2000, 3, None, "vexriscv", False),
-           ("small, 1 channel", 0x2000, 0x1000, 0x2000, 1, ["up5k"], "vexriscv", False),
-           ("PicoRV32, SPRAM", 0x2000, 0x10000, 0x2000, 3, ["up5k"], "picorv32", True),
-           ("SERV, SPRAM", 0x2000, 0x10000, 0x2000, 3, ["up5k"], "serv", True),
-           ("SERV, flash", 0, 0x10000, None, 3, ["up5k"], "serv", True)]
+# to, channels, parts (None: all), CPU, SRAM in the UP5K's SPRAM, the core's
+# lean build
+CONFIGS = [("as simulated", 0x8000, 0x10000, None, 3, None, "vexriscv", False, False),
+           ("small memories", 0x2000, 0x1000, 0x2000, 3, None, "vexriscv", False, False),
+           ("small, 1 channel", 0x2000, 0x1000, 0x2000, 1, ["up5k"], "vexriscv", False, False),
+           ("PicoRV32, SPRAM", 0x2000, 0x10000, 0x2000, 3, ["up5k"], "picorv32", True, False),
+           ("PicoRV32, SPRAM, lean core", 0x2000, 0x10000, 0x2000, 3, ["up5k"], "picorv32",
+            True, True),
+           ("SERV, SPRAM", 0x2000, 0x10000, 0x2000, 3, ["up5k"], "serv", True, False),
+           ("SERV, flash", 0, 0x10000, None, 3, ["up5k"], "serv", True, False)]
 PARTS = [("up5k", 24.0, "30 EBR (4 kbit), 4 SPRAM (256 kbit, not inferred)"),
          ("ecp5-25f", 50.0, "56 DP16KD (18 kbit)")]
 
 
-def gen_verilog(name, rom_size, sram_size, fw, truncate, channels, cpu, spram):
+def gen_verilog(name, rom_size, sram_size, fw, truncate, channels, cpu, spram, lean):
     d = OUT / re.sub(r"\W+", "_", name)
     d.mkdir(parents=True, exist_ok=True)
     if rom_size == 0:
@@ -83,7 +90,7 @@ def gen_verilog(name, rom_size, sram_size, fw, truncate, channels, cpu, spram):
     subprocess.run([sys.executable, str(ROOT / "soc" / "twh_soc.py"), "--variant", "hw",
                     "--out", str(d), "--clk-hz", str(CLK_HZ), "--sram-size", hex(sram_size)]
                    + mem + ["--channels", str(channels), "--cpu", cpu]
-                   + (["--spram"] if spram else []), check=True,
+                   + (["--spram"] if spram else []) + (["--lean"] if lean else []), check=True,
                    stdout=subprocess.DEVNULL)
     gw = d / "gateware"
     files = [l for l in (gw / "sources.f").read_text().split() if not l.startswith("+incdir")]
@@ -122,10 +129,11 @@ PART_LOGIC = {"up5k": 5280, "ecp5-25f": 24288}
 CPU_NAME = {"vexriscv": "VexRiscv", "picorv32": "PicoRV32 (minimal)", "serv": "SERV"}
 
 
-def describe(name, rom_size, sram_size, channels, cpu, spram):
+def describe(name, rom_size, sram_size, channels, cpu, spram, lean):
     what = name if cpu == "vexriscv" else f"{CPU_NAME[cpu]} for the VexRiscv"
     rom = f"ROM {rom_size // 1024} KiB" if rom_size else "firmware in SPI flash, no ROM"
-    return (f"{what}: {channels} ch, {rom}, SRAM "
+    core = ", the core's lean build" if lean else ""
+    return (f"{what}: {channels} ch{core}, {rom}, SRAM "
             f"{sram_size // 1024} KiB{' in SPRAM' if spram else ''}")
 
 
@@ -196,16 +204,18 @@ def main():
     print("== LiteX SoC: a RV32I CPU (VexRiscv minimal unless named) + twowire-host + UART + timer, "
           f"{CLK_HZ / 1e6:g} MHz (docs/soc.md)")
     t0 = time.time()
-    for name, rom_size, sram_size, truncate, channels, only, cpu, spram in CONFIGS:
+    for name, rom_size, sram_size, truncate, channels, only, cpu, spram, lean in CONFIGS:
         if a.config and name not in a.config:
             continue
-        files, d = gen_verilog(name, rom_size, sram_size, fw, truncate, channels, cpu, spram)
+        files, d = gen_verilog(name, rom_size, sram_size, fw, truncate, channels, cpu, spram,
+                               lean)
+        desc = describe(name, rom_size, sram_size, channels, cpu, spram, lean)
         for part, freq, mem in PARTS:
             if (a.only and part != a.only) or (only and part not in only):
                 continue
             out = d / part
             rom_txt = f"ROM {rom_size // 1024:2} KiB" if rom_size else "SPI flash "
-            label = (f"{part:9} {name:16} {channels} ch, {rom_txt} "
+            label = (f"{part:9} {name:16} {channels} ch{' lean' if lean else ''}, {rom_txt} "
                      f"SRAM {sram_size // 1024:2} KiB{' (SPRAM)' if spram else ''}")
             try:
                 # synth.py prints the tail of a failed tool's log: the
@@ -216,11 +226,9 @@ def main():
                 ram, lut, ff, why, util = yosys_only(out)
                 print(f"{label}  DOES NOT FIT: nextpnr utilisation {util} "
                       f"(Yosys: LUT {lut}, FF {ff}, {ram} block RAMs; part: {mem}); {why}")
-                rows.append(table_row(part, describe(name, rom_size, sram_size, channels, cpu,
-                                                     spram), out, failed=(ram, lut, ff, util)))
+                rows.append(table_row(part, desc, out, failed=(ram, lut, ff, util)))
                 continue
-            rows.append(table_row(part, describe(name, rom_size, sram_size, channels, cpu, spram),
-                                  out, r=r))
+            rows.append(table_row(part, desc, out, r=r))
             unit = "LC" if part == "up5k" else "LUT4+"
             print(f"{label}  logic {r['logic']:5} {unit}  LUT {r['lut']:5}  FF {r['ff']:5}  "
                   f"BRAM {r['ram']:2}  LUTRAM {r['lutram']:2}  Fmax {r['fmax']:6.1f} MHz "

@@ -7,8 +7,9 @@ to a LiteX SoC"; docs/soc.md).
 `TwoWireHost` wraps rtl/twh_wb.v (Wishbone B4 classic, 32-bit data) in a
 Migen module: a LiteX Wishbone slave (word addressed, as LiteX's bus is)
 with the core's level `irq` behind an `ev.irq` (what LiteX's IRQ handler
-wires to the CPU), CLK_HZ set from the SoC's clock, CHANNELS and
-FIFO_DEPTH passed through, and the 2-wire pins from a pad record. The
+wires to the CPU), CLK_HZ set from the SoC's clock, CHANNELS,
+FIFO_DEPTH and the lean build's PROG_TIMING / POLLING passed through, and
+the 2-wire pins from a pad record. The
 window size and the register offsets come from rdl/twh_regs.rdl through
 systemrdl-compiler (`read_regmap`), the same single source as the C header
 sw/include/twh_regs.h; nothing of the map is written down here.
@@ -95,7 +96,8 @@ class _IRQ:
 class TwoWireHost(Module):
     """rtl/twh_wb.v as a LiteX Wishbone slave with its irq and pins."""
 
-    def __init__(self, platform, pads, clk_freq, channels=1, fifo_depth=16, rdl=str(RDL_PATH)):
+    def __init__(self, platform, pads, clk_freq, channels=1, fifo_depth=16, rdl=str(RDL_PATH),
+                 prog_timing=True, polling=True):
         self.regmap = regmap = read_regmap(rdl)
         if not 1 <= channels <= regmap.ch_count:
             raise ValueError(f"channels must be 1-{regmap.ch_count}")
@@ -128,6 +130,7 @@ class TwoWireHost(Module):
         self.specials += Instance("twh_wb",
             p_CLK_HZ=Constant(self.clk_hz, 32), p_CHANNELS=Constant(channels, 32),
             p_FIFO_DEPTH=Constant(fifo_depth, 32),
+            p_PROG_TIMING=Constant(int(prog_timing), 32), p_POLLING=Constant(int(polling), 32),
             i_clk=ClockSignal(), i_rst=ResetSignal(),
             i_wb_adr_i=Cat(Constant(0, 2), bus.adr[:word_bits]),
             i_wb_dat_i=bus.dat_w, o_wb_dat_o=bus.dat_r,
@@ -142,14 +145,17 @@ class TwoWireHost(Module):
             platform.add_source(str(RTL_DIR / f))
 
 
-def add_twh(soc, name="twh", pads=None, channels=1, fifo_depth=16, origin=None):
+def add_twh(soc, name="twh", pads=None, channels=1, fifo_depth=16, origin=None,
+            prog_timing=True, polling=True):
     """Adds a TwoWireHost to a LiteX SoC: its Wishbone window (uncached:
     put `origin` in an IO region, or let LiteX place it), its interrupt
     (when the CPU takes interrupts; without, the irq pin is left unused
     and software polls the core: the C driver with no wait_irq hook), and
     constants for software (<NAME>_CHANNELS, <NAME>_REG_<REG> offsets,
-    <NAME>_CH_BASE/_CH_STRIDE, from the RDL)."""
-    twh = TwoWireHost(soc.platform, pads, soc.sys_clk_freq, channels, fifo_depth)
+    <NAME>_CH_BASE/_CH_STRIDE, from the RDL). prog_timing=False,
+    polling=False: the lean build (docs/integration.md, "Lean builds")."""
+    twh = TwoWireHost(soc.platform, pads, soc.sys_clk_freq, channels, fifo_depth,
+                      prog_timing=prog_timing, polling=polling)
     setattr(soc.submodules, name, twh)
     soc.bus.add_slave(name, twh.bus, SoCRegion(origin=origin, size=twh.size, cached=False))
     if soc.irq.enabled:

@@ -6,11 +6,13 @@ soc/twh_litex.py.
 
     twh_soc.py --variant sim --out build/soc/sim [--rom fw.bin]
     twh_soc.py --variant hw  --out build/soc/hw  [--rom fw.bin] [--cpu serv] [--spram]
+               [--flash] [--lean]
 
 --cpu picorv32 / serv put one of the smaller RV32I CPUs in place of the
 VexRiscv (make soc simulates the VexRiscv and SERV; scripts/bench_soc.py's
 UP5K fit check takes PicoRV32 and SERV), --spram the SRAM in the UP5K's
-SPRAM blocks (hw only).
+SPRAM blocks (hw only), --lean the core's lean build (PROG_TIMING = 0,
+POLLING = 0).
 
 Writes OUT/gateware/twh_soc.v (+ the ROM/RAM .init files and sources.f,
 every Verilog file the SoC needs), OUT/software/include/generated/ (csr.h,
@@ -113,7 +115,7 @@ class TwhSoC(SoCCore):
     mem_map = {**SoCCore.mem_map}
 
     def __init__(self, variant, clk_hz, rom_size, sram_size, rom_init, channels=CHANNELS,
-                 cpu="vexriscv", spram=False, flash=False):
+                 cpu="vexriscv", spram=False, flash=False, lean=False):
         platform = VerilogPlatform("", _io(variant, channels), name="twh_soc")
         if flash:
             self.mem_map = {**SoCCore.mem_map, "spiflash": FLASH_ORIGIN}
@@ -146,7 +148,8 @@ class TwhSoC(SoCCore):
         # (the other CPUs' maps have their CSRs there: LiteX places the
         # window in their IO region)
         add_twh(self, "twh", pads=platform.request("twh"), channels=channels,
-                origin=TWH_ORIGIN if cpu == "vexriscv" else None)
+                origin=TWH_ORIGIN if cpu == "vexriscv" else None,
+                prog_timing=not lean, polling=not lean)
 
 
 class HeaderBuilder(Builder):
@@ -171,6 +174,8 @@ def main():
                     help="SRAM in the iCE40 UP5K's SPRAM (hw only; 64 or 128 KiB)")
     ap.add_argument("--flash", action="store_true",
                     help="no ROM: the firmware runs from SPI flash (hw only)")
+    ap.add_argument("--lean", action="store_true",
+                    help="the core's lean build: PROG_TIMING = 0, POLLING = 0")
     ap.add_argument("-v", "--verbose", action="store_true", help="LiteX's own log")
     a = ap.parse_args()
     if not a.verbose:
@@ -186,7 +191,7 @@ def main():
     if a.flash and a.variant != "hw":
         sys.exit("--flash: hw variant")
     soc = TwhSoC(a.variant, a.clk_hz, a.rom_size, a.sram_size, rom_init, a.channels,
-                 cpu=a.cpu, spram=a.spram, flash=a.flash)
+                 cpu=a.cpu, spram=a.spram, flash=a.flash, lean=a.lean)
     out = Path(a.out).resolve()
     builder = HeaderBuilder(soc, output_dir=str(out), compile_software=False,
                             compile_gateware=False)
