@@ -1,14 +1,14 @@
 #!/usr/bin/env python3
 """Resource and Fmax benchmark: the bare Wishbone core (twh_wb, 16-deep
 FIFOs) at CHANNELS = 1 and 3 on each part, the lean build (PROG_TIMING = 0,
-POLLING = 0) at one channel on the HX8K, and the board tops (make boards) at
-CHANNELS = 1 and 3, the iCEBreaker's also as the lean build. Fmax of the
-goal configurations over nextpnr seeds 1-5 at one and three channels.
+POLLING = 0) at one and three channels on the HX8K, and the board tops (make
+boards) at CHANNELS = 1 and 3, the iCEBreaker's also as the lean build. Fmax
+of the goal configurations over nextpnr seeds 1-5 at one and three channels.
 Prints a table and, with --write, writes it into docs/resources.md.
 Figures are measured, never asserted: each row of issue 19's goal table is
 shown beside its goal with how far off it is, and the iCEBreaker top at
-three channels and as the lean build side by side on the UP5K, with the
-logic cells left for a soft CPU.
+three channels, full and lean, and as the lean build at one channel side by
+side on the UP5K, with the logic cells left for a soft CPU.
 
 The bare core has ~90 pins: it fits the HX8K's CT256 and the ECP5's CABGA256
 packages (pins placed freely), not the UP5K's SG48; the UP5K figure is the
@@ -97,7 +97,7 @@ def tool_versions():
 BOARDS = [("icebreaker", "up5k", "twh_icebreaker", 12, "constraints/icebreaker.pcf"),
           ("hx8k", "hx8k", "twh_hx8k", 12, "constraints/hx8k.pcf"),
           ("ulx3s", "ecp5-85f", "twh_ulx3s", 25, "constraints/ulx3s.lpf")]
-# board tops also built as the lean build at one channel (the SoC-sized check)
+# board tops also built as the lean build (the SoC-sized check)
 LEAN_BOARDS = ("icebreaker",)
 
 
@@ -108,7 +108,7 @@ def board_sources(board):
 def board_runs(runs):
     """Board tops with their pin constraints, at the board clock (the Fmax
     column is what nextpnr reaches, the target the board's clock). Each run
-    goes into runs under its name (<board>-<channels>, <board>-lean-1)."""
+    goes into runs under its name (<board>-<channels>, <board>-lean-<channels>)."""
     rows = []
     for board, part, top, mhz, con in BOARDS:
         srcs = board_sources(board)
@@ -117,8 +117,8 @@ def board_runs(runs):
         builds = [(f"{board}-{ch}", {"CHANNELS": str(ch)}, f"{board} board top")
                   for ch in CHANNELS]
         if board in LEAN_BOARDS:
-            builds.append((f"{board}-lean-1", {"CHANNELS": "1", **LEAN},
-                           f"{board} board top, lean build"))
+            builds += [(f"{board}-lean-{ch}", {"CHANNELS": str(ch), **LEAN},
+                        f"{board} board top, lean build") for ch in CHANNELS]
         for name, params, what in builds:
             r = synth.synth(part, top, params, synth.core_sources() + srcs,
                             mhz, ROOT / "build" / "bench" / name,
@@ -198,9 +198,11 @@ def goal_rows(runs, medians, no_boards):
 
 
 def soc_rows(runs):
-    """The iCEBreaker top (UP5K) at three channels, full feature set, and as
-    the lean build at one channel, side by side: what is left for a CPU."""
+    """The iCEBreaker top (UP5K) at three channels, full feature set and
+    lean build, and as the lean build at one channel, side by side: what
+    is left for a CPU."""
     cols = [("3 channels, full feature set", runs.get("icebreaker-3")),
+            ("lean build, 3 channels", runs.get("icebreaker-lean-3")),
             ("lean build, 1 channel", runs.get("icebreaker-lean-1"))]
     cols = [(w, r) for w, r in cols if r]
     if not cols:
@@ -277,8 +279,8 @@ def run(a):
         builds = [(f"{part}-twh_wb-{ch}", {"CHANNELS": str(ch), **FIFO},
                    "twh_wb (bare core)") for ch in CHANNELS]
         if part == "hx8k":
-            builds.append((f"{part}-twh_wb-lean-1", {"CHANNELS": "1", **FIFO, **LEAN},
-                           "twh_wb (bare core), lean build"))
+            builds += [(f"{part}-twh_wb-lean-{ch}", {"CHANNELS": str(ch), **FIFO, **LEAN},
+                        "twh_wb (bare core), lean build") for ch in CHANNELS]
         for name, params, what in builds:
             r = synth.synth(part, "twh_wb", params, synth.core_sources(), mhz,
                             ROOT / "build" / "bench" / name)
@@ -326,10 +328,12 @@ def run(a):
                     medians[("up5k", ch)] = median
     pieces = piece_runs()
     per_ch = []
-    for part, _ in CORE_RUNS:
-        one, three = runs.get(f"{part}-twh_wb-1"), runs.get(f"{part}-twh_wb-3")
+    bases = [(f"{part}-twh_wb", part) for part, _ in CORE_RUNS]
+    bases.append(("hx8k-twh_wb-lean", "hx8k, lean build"))
+    for base, what in bases:
+        one, three = runs.get(f"{base}-1"), runs.get(f"{base}-3")
         if one and three:
-            per_ch.append(f"- {part}: {num((three['logic'] - one['logic']) / 2)} logic cells "
+            per_ch.append(f"- {what}: {num((three['logic'] - one['logic']) / 2)} logic cells "
                           f"per further channel ({one['logic']} at 1, {three['logic']} at 3)")
     goals = goal_rows(runs, medians, a.no_boards)
     soc = soc_rows(runs)
