@@ -7,12 +7,12 @@ to a LiteX SoC"; docs/soc.md).
 `TwoWireHost` wraps rtl/twh_wb.v (Wishbone B4 classic, 32-bit data) in a
 Migen module: a LiteX Wishbone slave (word addressed, as LiteX's bus is)
 with the core's level `irq` behind an `ev.irq` (what LiteX's IRQ handler
-wires to the CPU), CLK_HZ set from the SoC's clock, CHANNELS,
-FIFO_DEPTH and the lean build's PROG_TIMING / POLLING passed through, and
-the 2-wire pins from a pad record. The
-window size and the register offsets come from rdl/twh_regs.rdl through
-systemrdl-compiler (`read_regmap`), the same single source as the C header
-sw/include/twh_regs.h; nothing of the map is written down here.
+wires to the CPU), CLK_HZ set from the SoC's clock, CHANNELS, FIFO_DEPTH
+and the lean build's PROG_TIMING / POLLING passed through, and the 2-wire
+pins from a pad record. The window size and the register offsets come from
+rdl/twh_regs.rdl through systemrdl-compiler (`read_regmap`), the same
+single source as the C header sw/include/twh_regs.h; nothing of the map is
+written down here.
 
 Pads: either `line_o`, `line_oe`, `line_i` ([CHANNELS-1:0] each: the
 tri-state buffer and front end stay outside, as for the bare core), or one
