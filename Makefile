@@ -28,6 +28,7 @@ help:
 	@echo "make demo    - scripted session against modelled cells, writes build/demo/demo.vcd"
 	@echo "make test    - the whole regression: lint + every test (installs what is missing)"
 	@echo "make lint    - Verilator -Wall and a Yosys synthesis check of rtl/"
+	@echo "make board-lint - the same for the UART bridge and the board tops (boards/)"
 	@echo "make waves   - open the demo waveform in GTKWave (docs/waves.md)"
 	@echo "make formal  - SymbiYosys proofs (docs/formal.md)"
 	@echo "make fuzz    - libFuzzer on the driver's decoders, FUZZ_SECONDS each (docs/fuzzing.md)"

@@ -1,13 +1,16 @@
 # Board tops (boards/, docs/boards.md): bitstreams with the YoWASP tools, a
 # lint of the bridge and the tops, the PC command-line tool, and the board
-# simulation.
+# simulation. A board build reads the core (rtl/), the logic every board
+# shares (boards/common/: the UART bridge, reset and LEDs) and its own top
+# (boards/<board>/).
 #
 #   make boards                 every bitstream below
 #   make board-icebreaker       iCEBreaker   iCE40UP5K-SG48  12 MHz  -> .bin
 #   make board-hx8k             HX8K board   iCE40HX8K-CT256 12 MHz  -> .bin
 #   make board-ulx3s            ULX3S 85F    ECP5-85F CABGA381 25 MHz -> .bit
 #        CHANNELS=1..3 (default 3), BOARD_BAUD=115200
-#   make board-lint             Verilator -Wall + Yosys check of the tops (make test)
+#   make board-lint             Verilator -Wall + Yosys check of the bridge and the
+#                               tops (make test; make lint checks rtl/ only)
 #   make board-cli              sw/tools/twh_cli (the PC tool)
 #   make board-sim              tb/test_board_top.py (the iCEBreaker top simulated)
 #   make board-sim-full         the CLI's whole sensor page against the simulated
@@ -22,7 +25,9 @@ BOARD_CHANNELS := $(or $(CHANNELS),3)
 BOARD_BAUD     ?= 115200
 BOARD_DIR      := build/boards
 YOWASP         := .venv/bin/yowasp-
-BOARD_RTL      := $(sort $(wildcard rtl/*.v)) rtl/twh_defs.vh
+BOARD_COMMON   := $(sort $(wildcard boards/common/*.v))
+BOARD_SRC      := $(sort $(wildcard rtl/*.v)) $(BOARD_COMMON)
+BOARD_RTL      := $(BOARD_SRC) rtl/twh_defs.vh
 BOARDS         := icebreaker hx8k ulx3s
 
 BOARD_TOP_icebreaker := twh_icebreaker
@@ -62,7 +67,7 @@ $(BOARD_DIR)/$(1)/params: board-force
 
 $(BOARD_DIR)/$(1)/synth.json: $(BOARD_RTL) $(wildcard boards/$(1)/*.v) $(BOARD_DIR)/$(1)/params scripts/synth.py | deps
 	@echo "yosys: synth_$(BOARD_FAM_$(1)) $(BOARD_TOP_$(1)) CHANNELS=$(BOARD_CHANNELS) BAUD=$(BOARD_BAUD)"
-	@$(YOWASP)yosys -q -l $$(@D)/yosys.log -p "read_verilog -Irtl $(sort $(wildcard rtl/*.v)) $(wildcard boards/$(1)/*.v); \
+	@$(YOWASP)yosys -q -l $$(@D)/yosys.log -p "read_verilog -Irtl $(BOARD_SRC) $(wildcard boards/$(1)/*.v); \
 	    hierarchy -top $(BOARD_TOP_$(1)) -chparam CHANNELS $(BOARD_CHANNELS) -chparam BAUD $(BOARD_BAUD); \
 	    synth_$(BOARD_FAM_$(1)) $$$$($(PY) scripts/synth.py --synth-flow $(BOARD_FAM_$(1))) -top $(BOARD_TOP_$(1)) -json $$@" >/dev/null
 	@$(call BOARD_NO_WARN,$$(@D)/yosys.log)
@@ -103,23 +108,23 @@ board-force:
 board-lint: deps
 	@set -e; for p in "12000000 115200" "12000000 1000000" "25000000 115200"; do \
 	    set -- $$p; echo "verilator -Wall twh_uart_bridge CLK_HZ=$$1 BAUD=$$2"; \
-	    verilator --lint-only -Wall -Irtl $(sort $(wildcard rtl/*.v)) --top-module twh_uart_bridge \
+	    verilator --lint-only -Wall -Irtl $(BOARD_SRC) --top-module twh_uart_bridge \
 	        -GCLK_HZ=$$1 -GBAUD=$$2; \
 	done
 	@set -e; for b in $(BOARDS); do for ch in 1 3; do \
 	    top=$$(basename boards/$$b/twh_*.v .v); \
 	    echo "verilator -Wall $$top CHANNELS=$$ch"; \
-	    verilator --lint-only -Wall -Irtl $(sort $(wildcard rtl/*.v)) boards/$$b/$$top.v \
+	    verilator --lint-only -Wall -Irtl $(BOARD_SRC) boards/$$b/$$top.v \
 	        --top-module $$top -GCHANNELS=$$ch; \
 	done; done
 	@mkdir -p $(BOARD_DIR)
 	@echo "yosys: synth_ice40 twh_uart_bridge"
-	@yosys -q -l $(BOARD_DIR)/lint_bridge.log -p "read_verilog -Irtl $(sort $(wildcard rtl/*.v)); \
+	@yosys -q -l $(BOARD_DIR)/lint_bridge.log -p "read_verilog -Irtl $(BOARD_SRC); \
 	    synth_ice40 -top twh_uart_bridge; check -assert" >/dev/null
 	@$(call BOARD_NO_WARN,$(BOARD_DIR)/lint_bridge.log)
 	@set -e; for b in $(BOARDS); do \
 	    top=$$(basename boards/$$b/twh_*.v .v); echo "yosys: elaborate $$top"; \
-	    yosys -q -l $(BOARD_DIR)/lint_$$b.log -p "read_verilog -Irtl $(sort $(wildcard rtl/*.v)) \
+	    yosys -q -l $(BOARD_DIR)/lint_$$b.log -p "read_verilog -Irtl $(BOARD_SRC) \
 	        boards/$$b/$$top.v; hierarchy -check -top $$top; proc; flatten; tribuf; check -assert" >/dev/null; \
 	    if grep -E '^Warning' $(BOARD_DIR)/lint_$$b.log; then echo "$$b: warnings above"; exit 1; fi; \
 	done

@@ -102,7 +102,12 @@ LEAN_BOARDS = ("icebreaker",)
 
 
 def board_sources(board):
-    return sorted(str(p) for p in (ROOT / "boards" / board).glob("*.v"))
+    """A board top's sources besides the core: boards/common/ (the UART
+    bridge, reset and LEDs every board shares) and boards/<board>/; none
+    without a top."""
+    top = sorted((ROOT / "boards" / board).glob("*.v"))
+    common = sorted((ROOT / "boards" / "common").glob("*.v"))
+    return [str(p) for p in common + top] if top else []
 
 
 def board_runs(runs):

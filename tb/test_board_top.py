@@ -297,7 +297,7 @@ def twh_cli():
 def _run(testcase, baud):
     simrun.run("tb_board", "test_board_top", f"board_{testcase}",
                parameters={"CHANNELS": 3, "BAUD": baud}, testcase=testcase,
-               tb_sources=["tb_board.v", "../boards/icebreaker/twh_icebreaker.v"],
+               tb_sources=["tb_board.v", *simrun.board_sources("icebreaker")],
                extra_env={"TWH_CHANNELS": "3", "TWH_BAUD": str(baud)})
 
 
