@@ -52,16 +52,35 @@ module twh_core #(
     output wire [CHANNELS-1:0] line_oe,
     input  wire [CHANNELS-1:0] line_i
 );
+    // ------------------------------------------------------------ parameter checks
+    // The legal ranges, here and nowhere else (CLK_HZ's: twh_carrier). A
+    // value outside its range instantiates a module that does not exist,
+    // named for the parameter and its range, and every tool stops on it as
+    // missing (docs/integration.md, "Parameters"). A range is its
+    // localparams and its module's name: change both together
+    // (tb/test_params.py reads them and checks that they agree).
+    localparam integer CHANNELS_MIN   = 1;
+    localparam integer CHANNELS_MAX   = 8;
+    localparam integer FIFO_DEPTH_MIN = 2;      // and a power of two
+    localparam integer FIFO_DEPTH_MAX = 2048;
+    localparam CHANNELS_OK   = CHANNELS >= CHANNELS_MIN && CHANNELS <= CHANNELS_MAX;
+    localparam FIFO_DEPTH_OK = FIFO_DEPTH >= FIFO_DEPTH_MIN && FIFO_DEPTH <= FIFO_DEPTH_MAX &&
+                               (FIFO_DEPTH & (FIFO_DEPTH - 1)) == 0;
     generate
-        if (CHANNELS < 1 || CHANNELS > 8) begin : g_bad_channels
+        if (!CHANNELS_OK) begin : g_bad_channels
             twh_error_CHANNELS_must_be_1_to_8 u_err ();
         end
-        if (FIFO_DEPTH > 2048) begin : g_bad_depth
-            twh_error_FIFO_DEPTH_at_most_2048 u_err ();
+        if (!FIFO_DEPTH_OK) begin : g_bad_depth
+            twh_error_FIFO_DEPTH_must_be_a_power_of_two_2_to_2048 u_err ();
         end
     endgenerate
+    // What the submodules are built with: the parameter, or after a failed
+    // check a legal stand-in, so that no tool breaks on the bad value (a
+    // memory or index out of range) before it reports the missing module.
+    localparam integer CH_N    = CHANNELS_OK ? CHANNELS : 1;
+    localparam integer DEPTH_N = FIFO_DEPTH_OK ? FIFO_DEPTH : 16;
 
-    localparam integer LW = $clog2(FIFO_DEPTH + 1);
+    localparam integer LW = $clog2(DEPTH_N + 1);
     localparam [3:0]  CH_COUNT = CHANNELS[3:0];
     localparam [11:0] DEPTH12  = FIFO_DEPTH[11:0];
     localparam integer CLK_KHZ_I = CLK_HZ / 1000;
@@ -343,7 +362,7 @@ module twh_core #(
     wire [3:0] h_skip = (flushing || flush_wr) ? `TWH_ST_CANCELLED :
                         disp_blk               ? `TWH_ST_BLOCKED : 4'd0;
 
-    twh_fifo #(.W(33), .DEPTH(FIFO_DEPTH)) u_cmd_fifo (
+    twh_fifo #(.W(33), .DEPTH(DEPTH_N)) u_cmd_fifo (
         .clk(clk), .rst(rst),
         .push(push_ok), .din({p_blocked, q_wdata}), .full(cmd_full),
         .pop(dispatch), .dout(cmd_head), .empty(cmd_empty), .valid_next(cmd_valid_next),
@@ -380,7 +399,7 @@ module twh_core #(
     wire [3:0] push_status = c_res_status[scan*4 +: 4];
     wire pop_req = q_pop;
 
-    twh_fifo #(.W(36), .DEPTH(FIFO_DEPTH)) u_res_fifo (
+    twh_fifo #(.W(36), .DEPTH(DEPTH_N)) u_res_fifo (
         .clk(clk), .rst(rst),
         .push(res_push),
         .din({c_res_tag[scan*5 +: 5], scan, push_status,
@@ -423,7 +442,7 @@ module twh_core #(
     // comes out of the block RAM's register in the answer's clock
     wire [1:0]  q_treg = q_addr[3:2];            // TIMING0-2 of a channel block
     wire        t_wr  = q_wr_t && t_take;        // a timing write taken
-    twh_timing #(.CHANNELS(CHANNELS), .PROG(PROG_TIMING)) u_timing (
+    twh_timing #(.CHANNELS(CH_N), .PROG(PROG_TIMING)) u_timing (
         .clk(clk), .rst(rst), .lab(lab),
         .wr(t_wr), .wr_ch(q_blk), .wr_reg(q_treg),
         .wr_data(q_wdata), .wr_cmp(q_cmp),

@@ -35,7 +35,7 @@ module twh_fifo #(
 
     generate
         if ((1 << AW) != DEPTH || DEPTH < 2) begin : g_bad_depth
-            twh_error_FIFO_DEPTH_must_be_a_power_of_two u_err ();
+            twh_error_DEPTH_must_be_a_power_of_two_2_or_more u_err ();
         end
     endgenerate
 
