@@ -55,8 +55,13 @@ lint: deps
 	    verilator --lint-only -Wall -Irtl $(RTL) --top-module $$top -GCHANNELS=$$ch \
 	        -GPROG_TIMING=0 -GPOLLING=0; \
 	done; done
+	@set -e; for cfg in 4000000:1 4000000:3 10500000:5 12000000:8 16000000:16 32000000:32 48000000:32; do \
+	    echo "verilator -Wall twh_engine CLK_HZ=$${cfg%%:*} CHANNELS=$${cfg#*:}"; \
+	    verilator --lint-only -Wall -Irtl $(RTL) --top-module twh_engine \
+	        -GCLK_HZ=$${cfg%%:*} -GCHANNELS=$${cfg#*:}; \
+	done
 	@mkdir -p build/lint
-	@set -e; for top in twh_wb twh_axil; do \
+	@set -e; for top in twh_wb twh_axil twh_engine; do \
 	    echo "yosys: synth_ice40 $$top"; \
 	    yosys -q -l build/lint/yosys_$$top.log -p "read_verilog -Irtl $(RTL); synth_ice40 -top $$top; check -assert" >/dev/null; \
 	    ! grep -E "^Warning" build/lint/yosys_$$top.log || (echo "yosys warnings above" && false); \

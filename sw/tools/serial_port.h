@@ -1,4 +1,4 @@
-/* The PC side of the board's UART-to-Wishbone bridge (rtl/twh_uart_bridge.v,
+/* The PC side of the board's UART-to-Wishbone bridge (boards/common/twh_uart_bridge.v,
  * protocol in docs/boards.md) over a POSIX serial port, and the C driver's
  * platform hooks on top of it. The same code talks to a real board (an FTDI
  * /dev/ttyUSB*) and to the simulated one (a pty, tb/test_board_top.py).

@@ -1,0 +1,680 @@
+// One engine for every channel: each channel's sequencer and receiver state
+// is a word of block RAM, and a four-stage pipeline steps every channel in
+// turn once per carrier period (1 us), so all channels run concurrently from
+// shared logic. Per channel, only what must run at the clock stays in
+// flip-flops: the pin logic (twh_engine_pin: synchroniser, glitch filter,
+// the window flags, the drive for the next period) and the command queue's
+// pointers.
+//
+// The scan. The carrier's tick starts a scan: channel c is read (S0) in the
+// (c+1)th clock after the tick, its word and operands come out of the RAMs
+// (S1) and are registered (S2), the next word, the drive and the queue's
+// and result's moves are computed from them and registered (S3), and
+// written in the fourth clock after the read. A channel is read again a
+// carrier period (P clocks, P >= 4) after its last read, so it always reads
+// what its last visit wrote; a channel's drive is taken by its pin at a
+// fixed number of ticks after its visit (one tick if the write lands
+// before the next tick, else two; the clock floor below keeps that number
+// the same at every visit), so every phase lasts exactly its number of
+// periods on the line.
+//
+// Clock floor (checked at elaboration): with a whole number of MHz, P >= 4
+// and P >= CHANNELS (a scan ends before the next begins); with a fraction
+// (periods of P and P+1 clocks), P >= CHANNELS + 4, so every drive lands
+// before the next tick.
+//
+// Commands. Each channel has a queue of QDEPTH entries in one RAM (its slice
+// {channel, index}), its pointers in flip-flops: a command for an idle
+// channel is never held behind one for a busy channel, and each channel
+// keeps its own order. An entry stays at the head of its queue until its
+// result is handed over, so the frame's bytes and the result's code and tag
+// are read from the queue at every visit and never copied into the state.
+// A command with a non-zero skip code is answered with that status without
+// reaching the line.
+//
+// Results. One result register (m_res_*) serves every channel; a channel
+// whose result is ready hands it over at a visit that finds the register
+// free, and keeps it (holding its next charge back) until then.
+//
+// Phase lengths (microseconds, already clamped) come from a timing RAM of
+// eight words a channel, read at every visit for the field the channel's
+// next programmable phase needs (kept per channel in flip-flops, `nxf`).
+//
+// Phases, line drive and the receiver's rules are twh_link's and twh_rx's
+// (codes in twh_defs.vh).
+`default_nettype none
+`include "twh_defs.vh"
+module twh_engine #(
+    parameter integer CLK_HZ    = 48_000_000,
+    parameter integer CHANNELS  = 3,
+    parameter integer TAG_W     = 8,
+    parameter integer QDEPTH    = 4,
+    parameter integer GLITCH_NS = 100,
+    // derived, not to be set
+    parameter integer CW        = (CHANNELS > 1) ? $clog2(CHANNELS) : 1
+) (
+    input  wire                clk,
+    input  wire                rst,
+    input  wire                tick,           // twh_carrier's
+    input  wire                fall,
+    input  wire                cfg_idle_charge,
+    // phase lengths, microseconds, clamped: field 1 charge .. 6 turnaround
+    input  wire                t_we,
+    input  wire [CW-1:0]       t_ch,
+    input  wire [2:0]          t_fld,
+    input  wire [15:0]         t_len,
+    // commands, to the channel's queue
+    input  wire                s_cmd_valid,
+    output wire                s_cmd_ready,
+    input  wire [CW-1:0]       s_cmd_ch,
+    input  wire [7:0]          s_cmd_code,
+    input  wire [15:0]         s_cmd_payload,
+    input  wire [TAG_W-1:0]    s_cmd_tag,
+    input  wire [3:0]          s_cmd_skip,
+    // results
+    output reg                 m_res_valid,
+    input  wire                m_res_ready,
+    output reg  [CW-1:0]       m_res_ch,
+    output reg  [7:0]          m_res_code,
+    output reg  [15:0]         m_res_data,
+    output reg  [3:0]          m_res_status,
+    output reg  [TAG_W-1:0]    m_res_tag,
+    // the pins
+    output wire [CHANNELS-1:0] line_o,
+    output wire [CHANNELS-1:0] line_oe,
+    input  wire [CHANNELS-1:0] line_i,
+    output wire [CHANNELS-1:0] busy            // a command queued or running
+);
+    localparam integer P    = CLK_HZ / 1_000_000;
+    localparam integer FRAC = CLK_HZ % 1_000_000;
+    localparam integer QW   = (QDEPTH > 1) ? $clog2(QDEPTH) : 1;
+    localparam integer CN   = 1 << CW;
+    localparam integer QM1_I = QDEPTH - 1;
+    localparam [QW:0]  QFULL_M1 = QM1_I[QW:0];
+
+    generate
+        if (CHANNELS < 1 || CHANNELS > 32) begin : g_bad_channels
+            twh_error_CHANNELS_must_be_1_to_32 u_err ();
+        end
+        if (P < 4 || P < CHANNELS || CHANNELS + 4 >= 2 * P ||
+            (FRAC != 0 && P < CHANNELS + 5)) begin : g_bad_floor
+            twh_error_CLK_HZ_below_the_engine_floor_of_CHANNELS_MHz u_err ();
+        end
+        if ((1 << QW) != QDEPTH || QDEPTH < 2) begin : g_bad_qdepth
+            twh_error_QDEPTH_must_be_a_power_of_two_of_at_least_2 u_err ();
+        end
+    endgenerate
+
+    // ------------------------------------------------------------ state word
+    // [2:0] phase, [18:3] periods left (this one included), [19] a result
+    // waits, [20] the line read low during sync, [21] high during preamble,
+    // then the union U, by phase: the receiver's fields in listen; the
+    // command's bit and byte in the command phase; the result (data, status)
+    // while it waits.
+    localparam integer U0 = 22;
+    localparam integer SH = U0;          // 24: received data bits, first in [7:0]
+    localparam integer SB = U0 + 24;     // 5: ticks into the bit
+    localparam integer MK = U0 + 29;     // 5: consecutive mark ticks (to 16)
+    localparam integer BN = U0 + 34;     // 4: bit of the character (rx and tx)
+    localparam integer VT = U0 + 38;     // 2: ones among the bit's samples
+    localparam integer NB = U0 + 40;     // 2: bytes received; tx: frame byte
+    localparam integer AC = U0 + 42;     // inside a character
+    localparam integer ST = U0 + 43;     // a start bit passed its re-check
+    localparam integer FE = U0 + 44;     // framing error
+    localparam integer EN = U0 + 45;     // the answer ended in a break
+    localparam integer W  = U0 + 46;
+    localparam integer RS = U0 + 16;     // 4: the waiting result's status (data in U[15:0])
+    localparam [W-1:0] W_RESET = {{(W-19){1'b0}}, `TWH_TURNAROUND_MIN + 16'd1, `TWH_PH_IDLE};
+
+    // ------------------------------------------------------------ per channel
+    // (flat vectors: channel n's field at [n*width +: width])
+    reg  [CN*QW-1:0]     q_head;
+    reg  [CN*QW-1:0]     q_tail;
+    reg  [CN*(QW+1)-1:0] q_cnt;
+    reg  [CN-1:0]        q_full;         // q_cnt == QDEPTH
+    reg  [CN*3-1:0]      nxf;            // the timing field the next phase needs
+    reg  [CN-1:0]        init;           // the word was written since reset
+    wire [CN-1:0]        seen;
+
+    // ------------------------------------------------------------ scan
+    localparam [CW-1:0] LAST_CH = CHANNELS[CW-1:0] - 1'b1;
+    reg          s0_v;
+    reg [CW-1:0] s0_ch;
+    always @(posedge clk) begin
+        if (rst) begin
+            s0_v  <= 1'b0;
+            s0_ch <= {CW{1'b0}};
+        end else if (tick) begin
+            s0_v  <= 1'b1;
+            s0_ch <= {CW{1'b0}};
+        end else if (s0_v) begin
+            s0_v  <= (s0_ch != LAST_CH);
+            s0_ch <= s0_ch + 1'b1;
+        end
+    end
+
+    // ------------------------------------------------------------ RAMs
+    wire [W-1:0]  st_rd;
+    reg  [W-1:0]  s3_word;
+    reg           s3_v;
+    reg  [CW-1:0] s3_ch;
+    twh_ram #(.W(W), .AW(CW)) u_state (
+        .clk(clk), .we(s3_v), .waddr(s3_ch), .wdata(s3_word),
+        .raddr(s0_ch), .rdata(st_rd)
+    );
+
+    localparam integer QE = 8 + 16 + TAG_W + 4 + 8;     // code, payload, tag, skip, checksum
+    wire [QE-1:0] q_rd;
+    wire          push = s_cmd_valid && s_cmd_ready;
+    // the frame's checksum is taken on the way in (NOTES.md: one's
+    // complement of the 8-bit sum), so none sits behind the queue's RAM
+    wire [7:0]    push_chk;
+    twh_checksum u_chk (
+        .a(s_cmd_code), .b(s_cmd_code[7] ? s_cmd_payload[15:8] : 8'd0),
+        .c(s_cmd_payload[7:0]), .chk(push_chk)
+    );
+    twh_ram #(.W(QE), .AW(CW + QW)) u_queue (
+        .clk(clk), .we(push), .waddr({s_cmd_ch, q_tail[s_cmd_ch*QW +: QW]}),
+        .wdata({s_cmd_code, s_cmd_code[7] ? s_cmd_payload[15:8] : 8'd0, s_cmd_payload[7:0],
+                s_cmd_tag, s_cmd_skip, push_chk}),
+        .raddr({s0_ch, q_head[s0_ch*QW +: QW]}), .rdata(q_rd)
+    );
+    assign s_cmd_ready = !q_full[s_cmd_ch];
+
+    wire [15:0] t_rd;
+    twh_ram #(.W(16), .AW(CW + 3)) u_timing (
+        .clk(clk), .we(t_we), .waddr({t_ch, t_fld}), .wdata(t_len),
+        .raddr({s0_ch, nxf[s0_ch*3 +: 3]}), .rdata(t_rd)
+    );
+
+    // ------------------------------------------------------------ S1, S2
+    reg          s1_v, s1_init, s1_env, s1_ne;
+    reg [CW-1:0] s1_ch;
+    always @(posedge clk) begin
+        s1_v    <= !rst && s0_v;
+        s1_ch   <= s0_ch;
+        s1_init <= init[s0_ch];
+        s1_env  <= seen[s0_ch];
+        s1_ne   <= q_cnt[s0_ch*(QW+1) +: QW+1] != {(QW+1){1'b0}};
+    end
+    reg          s2_v, s2_env, s2_ne, s2_last;
+    reg [CW-1:0] s2_ch;
+    reg [W-1:0]  s2_w;
+    reg [QE-1:0] s2_q;
+    reg [15:0]   s2_len;
+    always @(posedge clk) begin
+        s2_v    <= !rst && s1_v;
+        s2_ch   <= s1_ch;
+        s2_env  <= s1_env;
+        s2_ne   <= s1_ne;
+        // the word as read, or the state after reset for a channel not yet
+        // visited since: idle, the minimum turnaround (and one) before a charge
+        s2_w    <= s1_init ? st_rd : W_RESET;
+        s2_last <= s1_init ? (st_rd[18:4] == 15'd0) : 1'b0;
+        s2_q    <= q_rd;
+        s2_len  <= t_rd;
+    end
+
+    // ------------------------------------------------------------ S2: the step
+    wire [W-1:0] w     = s2_w;
+    wire [2:0]   ph    = w[2:0];
+    wire [15:0]  cnt   = w[18:3];
+    wire         rwait = w[19];
+    wire         last  = s2_last;       // cnt <= 1: this period is the phase's last
+    wire         env   = s2_env;
+
+    wire [7:0]       q_code = s2_q[QE-1 -: 8];
+    wire [7:0]       q_pmsb = s2_q[QE-9 -: 8];
+    wire [7:0]       q_plsb = s2_q[QE-17 -: 8];
+    wire [TAG_W-1:0] q_tag  = s2_q[12 +: TAG_W];
+    wire [3:0]       q_skip = s2_q[11:8];
+    wire [7:0]       q_chk  = s2_q[7:0];
+
+    // receiver fields
+    wire [23:0] r_sh  = w[SH +: 24];
+    wire [4:0]  r_sub = w[SB +: 5];
+    wire [4:0]  r_mk  = w[MK +: 5];
+    wire [3:0]  r_bn  = w[BN +: 4];
+    wire [1:0]  r_vt  = w[VT +: 2];
+    wire [1:0]  r_nb  = w[NB +: 2];
+    wire        r_ac  = w[AC];
+    wire        r_st  = w[ST];
+    wire        r_fe  = w[FE];
+    wire        r_en  = w[EN];
+    wire        r_done = (r_nb == 2'd3) || r_fe || r_en;
+
+    // the answer as it stands (twh_link's precedence)
+    wire [7:0] r_chk = ~(r_sh[7:0] + r_sh[15:8]);
+    reg  [3:0] r_status;
+    always @(*) begin
+        if (!w[20])                r_status = `TWH_ST_LINE_STUCK_HIGH;
+        else if (!w[21])           r_status = `TWH_ST_LINE_STUCK_LOW;
+        else if (r_fe)             r_status = `TWH_ST_FRAMING;
+        else if (r_nb == 2'd3)     r_status = (r_chk == r_sh[23:16]) ? `TWH_ST_OK
+                                                                      : `TWH_ST_BAD_CHECKSUM;
+        else if (r_st)             r_status = `TWH_ST_SHORT_RESPONSE;
+        else                       r_status = `TWH_ST_NO_RESPONSE;
+    end
+    wire r_data_ok = (r_status == `TWH_ST_OK) || (r_status == `TWH_ST_BAD_CHECKSUM);
+
+    // the receiver's step (twh_rx, one tick): sample points 11, 15, 19 us
+    // into a bit, the majority of the three, the start re-checked, one
+    // stop bit checked, a break after eight 0 bits ends the answer
+    reg [45:0] rx_n;
+    reg        bit_val;
+    always @(*) begin
+        rx_n    = w[U0 +: 46];
+        bit_val = ({1'b0, r_vt} + {2'b00, env}) >= 3'd2;
+        if (!r_done) begin
+            rx_n[MK-U0 +: 5] = !env ? 5'd0 : (r_mk == 5'd16) ? r_mk : r_mk + 5'd1;
+            if (!r_ac) begin
+                if (!env && (r_nb != 2'd0 || r_mk == 5'd16)) begin
+                    rx_n[AC-U0]       = 1'b1;
+                    rx_n[SB-U0 +: 5]  = 5'd1;
+                    rx_n[BN-U0 +: 4]  = 4'd0;
+                end
+            end else begin
+                rx_n[SB-U0 +: 5] = r_sub + 5'd1;
+                if (r_sub == 5'd31) rx_n[BN-U0 +: 4] = r_bn + 4'd1;
+                if (r_sub == 5'd11 || r_sub == 5'd15)
+                    rx_n[VT-U0 +: 2] = r_vt + {1'b0, env};
+                if (r_sub == 5'd19) begin
+                    rx_n[VT-U0 +: 2] = 2'd0;
+                    if (r_bn == 4'd0) begin
+                        if (bit_val) rx_n[AC-U0] = 1'b0;    // a false start
+                        else         rx_n[ST-U0] = 1'b1;
+                    end else if (r_bn != 4'd9) begin
+                        rx_n[SH-U0 +: 24] = {bit_val, r_sh[23:1]};
+                    end else begin
+                        rx_n[AC-U0] = 1'b0;
+                        if (bit_val)                  rx_n[NB-U0 +: 2] = r_nb + 2'd1;
+                        else if (r_sh[23:16] == 8'd0) rx_n[EN-U0] = 1'b1;
+                        else                          rx_n[FE-U0] = 1'b1;
+                    end
+                end
+            end
+        end
+    end
+
+    // the result register is free for this visit (a load in flight counts)
+    reg  s3_res;
+    wire res_free = !m_res_valid && !(s3_v && s3_res);
+
+    // the sequencer's step
+    reg [W-1:0] wn;
+    reg         hand;       // hand the waiting result over (pops the queue)
+    reg [2:0]   fld_n;
+
+    always @(*) begin
+        wn   = w;
+        hand = rwait && res_free;
+        if (hand) wn[19] = 1'b0;
+        if (!last) wn[18:3] = cnt - 16'd1;
+        case (ph)
+            `TWH_PH_IDLE:
+                if (last && s2_ne && !rwait) begin
+                    if (q_skip != 4'd0) begin
+                        wn[19] = 1'b1;
+                        wn[U0 +: 16] = 16'd0;
+                        wn[RS +: 4]  = q_skip;
+                    end else begin
+                        wn[2:0]  = `TWH_PH_CHARGE;
+                        wn[18:3] = s2_len;
+                        wn[21:20] = 2'b00;
+                    end
+                end
+            `TWH_PH_CHARGE:
+                if (last) begin
+                    wn[2:0] = `TWH_PH_SYNC;
+                    wn[18:3] = s2_len;
+                end
+            `TWH_PH_SYNC: begin
+                if (!env) wn[20] = 1'b1;
+                if (last) begin
+                    wn[2:0] = `TWH_PH_PREAMBLE;
+                    wn[18:3] = s2_len;
+                end
+            end
+            `TWH_PH_PREAMBLE: begin
+                if (env) wn[21] = 1'b1;
+                if (last) begin
+                    wn[2:0] = `TWH_PH_COMMAND;
+                    wn[18:3] = q_code[7] ? 16'd1408 : 16'd1056;
+                    wn[BN +: 4] = 4'd0;
+                    wn[NB +: 2] = 2'd0;
+                end
+            end
+            `TWH_PH_COMMAND:
+                if (last) begin
+                    wn[2:0] = `TWH_PH_EXECUTE;
+                    wn[18:3] = s2_len;
+                end else if (cnt[4:0] == 5'd1) begin       // a bit's last period
+                    if (w[BN +: 4] == 4'd10) begin
+                        wn[BN +: 4] = 4'd0;
+                        wn[NB +: 2] = w[NB +: 2] + 2'd1;
+                    end else begin
+                        wn[BN +: 4] = w[BN +: 4] + 4'd1;
+                    end
+                end
+            `TWH_PH_EXECUTE:
+                if (last) begin
+                    wn[2:0] = `TWH_PH_LISTEN;
+                    wn[18:3] = s2_len;
+                    wn[U0 +: 46] = 46'd0;
+                end
+            `TWH_PH_LISTEN:
+                if (last) begin
+                    wn[2:0] = `TWH_PH_TURNAROUND;
+                    wn[18:3] = s2_len;
+                    wn[19] = 1'b1;
+                    wn[U0 +: 46] = 46'd0;
+                    wn[RS +: 4]  = r_status;
+                    if (r_data_ok) wn[U0 +: 16] = {r_sh[7:0], r_sh[15:8]};
+                end else begin
+                    wn[U0 +: 46] = rx_n;
+                end
+            default:    // turnaround
+                if (last) begin
+                    wn[2:0] = `TWH_PH_IDLE;
+                    wn[18:3] = 16'd1;
+                end
+        endcase
+    end
+    always @(*) begin
+        // the field the phase after the new one loads (the command phase's
+        // length is fixed, so preamble names execute; the idle after a
+        // turnaround is one tick, so turnaround names charge)
+        case (wn[2:0])
+            `TWH_PH_IDLE:       fld_n = 3'd1;
+            `TWH_PH_CHARGE:     fld_n = 3'd2;
+            `TWH_PH_SYNC:       fld_n = 3'd3;
+            `TWH_PH_PREAMBLE:   fld_n = 3'd4;
+            `TWH_PH_COMMAND:    fld_n = 3'd4;
+            `TWH_PH_EXECUTE:    fld_n = 3'd5;
+            `TWH_PH_LISTEN:     fld_n = 3'd6;
+            default:            fld_n = 3'd1;
+        endcase
+    end
+
+    // ------------------------------------------------------------ S3
+    reg          s3_last;
+    reg [31:0]   s3_q;
+    reg [2:0]    s3_fld;
+    reg [7:0]    s3_code;
+    reg [15:0]   s3_data;
+    reg [3:0]    s3_status;
+    reg [TAG_W-1:0] s3_tag;
+    always @(posedge clk) begin
+        s3_v      <= !rst && s2_v;
+        s3_ch     <= s2_ch;
+        s3_word   <= wn;
+        s3_last   <= last;
+        s3_q      <= {q_code, q_pmsb, q_plsb, q_chk};
+        s3_fld    <= fld_n;
+        s3_res    <= !rst && s2_v && hand;
+        s3_code   <= q_code;
+        s3_data   <= w[U0 +: 16];
+        s3_status <= w[RS +: 4];
+        s3_tag    <= q_tag;
+    end
+
+    // S3: the drive for the next period, from the new word (twh_link's):
+    // the idle carrier only once the idle's count is out; the command
+    // phase's bit from the queue's bytes
+    wire [2:0] n_ph = s3_word[2:0];
+    wire [3:0] t_bn = s3_word[BN +: 4];
+    reg  [7:0] t_byte;
+    always @(*) begin
+        case (s3_word[NB +: 2])
+            2'd0:    t_byte = s3_q[31:24];
+            2'd1:    t_byte = s3_q[31] ? s3_q[23:16] : s3_q[15:8];
+            2'd2:    t_byte = s3_q[31] ? s3_q[15:8]  : s3_q[7:0];
+            default: t_byte = s3_q[7:0];
+        endcase
+    end
+    wire [9:0] t_char  = {1'b1, t_byte, 1'b0};
+    wire       t_level = (t_bn >= 4'd9) ? 1'b1 : t_char[t_bn];
+    reg          s4_v, s4_oe, s4_on;
+    reg [CW-1:0] s4_ch;
+    always @(posedge clk) begin
+        s4_v  <= !rst && s3_v;
+        s4_ch <= s3_ch;
+        s4_oe <= (n_ph != `TWH_PH_LISTEN) && (n_ph != `TWH_PH_IDLE || (cfg_idle_charge && s3_last));
+        s4_on <= (n_ph == `TWH_PH_CHARGE) || (n_ph == `TWH_PH_PREAMBLE) ||
+                 (n_ph == `TWH_PH_EXECUTE) || (n_ph == `TWH_PH_IDLE) ||
+                 (n_ph == `TWH_PH_COMMAND && t_level);
+    end
+
+    always @(posedge clk) begin
+        if (rst) begin
+            m_res_valid <= 1'b0;
+        end else begin
+            if (m_res_valid && m_res_ready) m_res_valid <= 1'b0;
+            if (s3_v && s3_res) begin
+                m_res_valid  <= 1'b1;
+                m_res_ch     <= s3_ch;
+                m_res_code   <= s3_code;
+                m_res_data   <= s3_data;
+                m_res_status <= s3_status;
+                m_res_tag    <= s3_tag;
+            end
+        end
+    end
+
+    // ------------------------------------------------------------ per channel
+    genvar n;
+    generate
+        for (n = 0; n < CN; n = n + 1) begin : g_ch
+            if (n < CHANNELS) begin : g_on
+                wire at_s3  = s3_v && (s3_ch == n);
+                wire pop    = at_s3 && s3_res;
+                // (this channel's own full flag, not the port's multiplexer)
+                wire pushed = s_cmd_valid && (s_cmd_ch == n) && !q_full[n];
+                wire [QW:0] cnt_n = q_cnt[n*(QW+1) +: QW+1];
+                always @(posedge clk) begin
+                    if (rst) begin
+                        q_head[n*QW +: QW]      <= {QW{1'b0}};
+                        q_tail[n*QW +: QW]      <= {QW{1'b0}};
+                        q_cnt[n*(QW+1) +: QW+1] <= {(QW+1){1'b0}};
+                        q_full[n]               <= 1'b0;
+                        nxf[n*3 +: 3]           <= 3'd1;
+                        init[n]                 <= 1'b0;
+                    end else begin
+                        if (pop)    q_head[n*QW +: QW] <= q_head[n*QW +: QW] + 1'b1;
+                        if (pushed) q_tail[n*QW +: QW] <= q_tail[n*QW +: QW] + 1'b1;
+                        if (pop && !pushed) begin
+                            q_cnt[n*(QW+1) +: QW+1] <= cnt_n - 1'b1;
+                            q_full[n]               <= 1'b0;
+                        end
+                        if (pushed && !pop) begin
+                            q_cnt[n*(QW+1) +: QW+1] <= cnt_n + 1'b1;
+                            q_full[n]               <= (cnt_n == QFULL_M1);
+                        end
+                        if (at_s3) begin
+                            nxf[n*3 +: 3] <= s3_fld;
+                            init[n]       <= 1'b1;
+                        end
+                    end
+                end
+                twh_engine_pin #(.CLK_HZ(CLK_HZ), .GLITCH_NS(GLITCH_NS)) u_pin (
+                    .clk(clk), .rst(rst), .tick(tick), .fall(fall),
+                    .visit(s0_v && (s0_ch == n)), .seen(seen[n]),
+                    .nx_we(s4_v && (s4_ch == n)), .nx_oe(s4_oe), .nx_on(s4_on),
+                    .line_i(line_i[n]), .line_o(line_o[n]), .line_oe(line_oe[n])
+                );
+                assign busy[n] = (cnt_n != {(QW+1){1'b0}});
+            end else begin : g_off
+                // indices past the last channel (CHANNELS not a power of two)
+                always @(posedge clk) begin
+                    q_head[n*QW +: QW]      <= {QW{1'b0}};
+                    q_tail[n*QW +: QW]      <= {QW{1'b0}};
+                    q_cnt[n*(QW+1) +: QW+1] <= {(QW+1){1'b0}};
+                    q_full[n]               <= 1'b1;    // no command is taken
+                    nxf[n*3 +: 3]           <= 3'd1;
+                    init[n]                 <= 1'b0;
+                end
+                assign seen[n] = 1'b0;
+            end
+        end
+    endgenerate
+`ifdef FORMAL
+    // One tracked channel (any), with a shadow of its state word, its
+    // timing field and its queue: the RAM's word for it is always the last
+    // one its visit wrote, and its step keeps twh_link's rules.
+    reg f_ok = 1'b0;
+    always @(posedge clk) if (rst) f_ok <= 1'b1;
+    wire f_tick, f_tick_nx, f_fall;
+    twh_carrier #(.CLK_HZ(CLK_HZ)) f_timebase (.clk(clk), .rst(rst), .tick(f_tick),
+                                               .tick_nx(f_tick_nx), .fall(f_fall));
+    always @(*) assume(tick == f_tick && fall == f_fall);
+
+    (* anyconst *) reg [CW-1:0] f_ch;
+    always @(*) assume(f_ch < CHANNELS);
+
+    // clocks since the last tick, and whether one came since reset
+    reg [7:0] f_since;
+    reg       f_ticked;
+    always @(posedge clk) begin
+        if (rst) begin
+            f_since  <= 8'd0;
+            f_ticked <= 1'b0;
+        end else if (tick) begin
+            f_since  <= 8'd1;
+            f_ticked <= 1'b1;
+        end else if (f_since != 8'hFF) begin
+            f_since  <= f_since + 8'd1;
+        end
+    end
+    localparam [7:0] F_ONE = 8'd1;
+
+    // the shadow: the word the tracked channel's last visit wrote
+    reg [W-1:0] f_w;
+    reg         f_wr;
+    always @(posedge clk) begin
+        if (rst) f_wr <= 1'b0;
+        else if (s3_v && s3_ch == f_ch) begin
+            f_w  <= s3_word;
+            f_wr <= 1'b1;
+        end
+    end
+    wire [W-1:0] f_cur = f_wr ? f_w : W_RESET;     // the channel's state as it stands
+    wire [2:0]   f_ph  = f_cur[2:0];
+
+    // the field each phase's successor loads (twh_link's fld_next)
+    function [2:0] f_fld;
+        input [2:0] ph_i;
+        case (ph_i)
+            `TWH_PH_CHARGE:   f_fld = 3'd2;
+            `TWH_PH_SYNC:     f_fld = 3'd3;
+            `TWH_PH_PREAMBLE: f_fld = 3'd4;
+            `TWH_PH_COMMAND:  f_fld = 3'd4;
+            `TWH_PH_EXECUTE:  f_fld = 3'd5;
+            `TWH_PH_LISTEN:   f_fld = 3'd6;
+            default:          f_fld = 3'd1;
+        endcase
+    endfunction
+
+    // the field the tracked channel's read asked for, carried to S2
+    reg [2:0] f_s1_fld, f_s2_fld;
+    always @(posedge clk) begin
+        f_s1_fld <= nxf[s0_ch*3 +: 3];
+        f_s2_fld <= f_s1_fld;
+    end
+
+    wire [QW:0]  f_qcnt  = q_cnt[f_ch*(QW+1) +: QW+1];
+    wire [QW-1:0] f_head = q_head[f_ch*QW +: QW];
+    wire [QW-1:0] f_tail = q_tail[f_ch*QW +: QW];
+
+    always @(*) begin
+        if (f_ok && !rst) begin
+            // the scan: a channel is read once a period, c+1 clocks after
+            // the tick, and the scan is over before the next tick
+            if (s0_v) assert(f_ticked && s0_ch < CHANNELS && f_since == {{(8-CW){1'b0}}, s0_ch} + F_ONE);
+            if (f_ticked && f_since == {{(8-CW){1'b0}}, f_ch} + F_ONE && f_since <= P[7:0])
+                assert(s0_v && s0_ch == f_ch);
+            if (tick) assert(!s0_v);
+            // the stages carry what S0 read, a clock apart
+            if (s1_v) assert(s1_ch < CHANNELS);
+            if (s2_v) assert(s2_ch < CHANNELS);
+            if (s3_v) assert(s3_ch < CHANNELS);
+            // one visit of a channel in the pipeline at a time (P >= 4)
+            if (s0_v && s0_ch == f_ch)
+                assert(!(s1_v && s1_ch == f_ch) && !(s2_v && s2_ch == f_ch) &&
+                       !(s3_v && s3_ch == f_ch));
+            if (s1_v && s1_ch == f_ch) assert(!(s2_v && s2_ch == f_ch) && !(s3_v && s3_ch == f_ch));
+            if (s2_v && s2_ch == f_ch) assert(!(s3_v && s3_ch == f_ch));
+            // the RAM's word for the tracked channel is the shadow
+            if (s1_v && s1_ch == f_ch) assert(s1_init == f_wr);
+            if (s1_v && s1_ch == f_ch && f_wr) assert(st_rd == f_w);
+            if (s2_v && s2_ch == f_ch) assert(s2_w == f_cur && s2_last == (f_cur[18:4] == 15'd0));
+            assert(init[f_ch] == f_wr);
+            // the timing field is the one the phase's successor loads
+            assert(nxf[f_ch*3 +: 3] == f_fld(f_ph));
+            if (s2_v && s2_ch == f_ch) assert(f_s2_fld == f_fld(f_ph));
+            // the queue: its count is tail - head, full at QDEPTH, and a
+            // transaction or a waiting result always has its entry
+            assert(f_qcnt <= QDEPTH[QW:0]);
+            assert(f_qcnt[QW-1:0] == f_tail - f_head);
+            assert(q_full[f_ch] == (f_qcnt == QDEPTH[QW:0]));
+            if (f_cur[19] || f_ph != `TWH_PH_IDLE) assert(f_qcnt != {(QW+1){1'b0}});
+            if (s3_v && s3_ch == f_ch && s3_res) assert(f_qcnt != {(QW+1){1'b0}});
+            // a result waits only between a listen's end (or a skip) and
+            // the next charge
+            if (f_cur[19]) assert(f_ph == `TWH_PH_TURNAROUND || f_ph == `TWH_PH_IDLE);
+            if (f_ph == `TWH_PH_COMMAND) assert(f_cur[BN +: 4] <= 4'd10);
+            // a turnaround's idle is one tick; after reset, the minimum
+            // turnaround and one
+            if (f_ph == `TWH_PH_IDLE) assert(f_cur[18:3] <= `TWH_TURNAROUND_MIN + 16'd1);
+            if (f_ph == `TWH_PH_IDLE && f_cur[18:3] > 16'd1) assert(!f_cur[19]);
+        end
+    end
+
+    // the step, at the tracked channel's write: a count steps down by one a
+    // visit, a phase ends only at its last period, phases run in order,
+    // each loads the timing word read for its own field (the field is
+    // f_fld of the phase before it, above), the command phase its 33 or
+    // 44 bits, the idle after a turnaround one tick
+    reg [W-1:0] f_pre;        // the word the step started from
+    reg         f_pre_last;
+    reg [15:0]  f_pre_len;
+    reg [7:0]   f_pre_code;
+    always @(posedge clk) begin
+        f_pre      <= s2_w;
+        f_pre_last <= s2_last;
+        f_pre_len  <= s2_len;
+        f_pre_code <= q_code;
+    end
+    wire [2:0]  f_oph = f_pre[2:0];
+    wire [15:0] f_ocnt = f_pre[18:3];
+    wire [2:0]  f_nph = s3_word[2:0];
+    wire [15:0] f_ncnt = s3_word[18:3];
+    always @(*) begin
+        if (f_ok && !rst && s3_v && s3_ch == f_ch) begin
+            if (!f_pre_last) assert(f_nph == f_oph && f_ncnt == f_ocnt - 16'd1);
+            if (f_pre_last && f_oph != `TWH_PH_IDLE) begin
+                assert(f_nph == f_oph + 3'd1);
+                if (f_nph == `TWH_PH_COMMAND)
+                    assert(f_ncnt == (f_pre_code[7] ? 16'd1408 : 16'd1056));
+                else if (f_nph == `TWH_PH_IDLE)
+                    assert(f_ncnt == 16'd1);
+                else
+                    assert(f_ncnt == f_pre_len);    // the word of f_fld(f_oph): above
+            end
+            if (f_pre_last && f_oph == `TWH_PH_IDLE)
+                assert(f_nph == `TWH_PH_IDLE || f_nph == `TWH_PH_CHARGE);
+            // a result is handed over exactly when one waits and the
+            // register is free, and it pops the queue
+            if (s3_res) assert(f_pre[19]);
+        end
+    end
+
+    // the result register holds its result until it is taken
+    reg f_past = 1'b0;
+    always @(posedge clk) f_past <= f_ok && !rst;
+    always @(posedge clk) begin
+        if (f_past && f_ok && !rst && $past(m_res_valid && !m_res_ready))
+            assert(m_res_valid && $stable({m_res_ch, m_res_code, m_res_data, m_res_status, m_res_tag}));
+    end
+`endif
+endmodule
+`default_nettype wire

@@ -1,0 +1,48 @@
+// Synthesis harness for measuring twh_engine alone (scripts/bench_engine.py):
+// the engine and the carrier, with the command, timing and result ports
+// behind a shift register on a few pins, so a placement of up to 32
+// channels needs only its lines and five more pins. Every engine input is
+// a flip-flop and every output reaches a pin, so synthesis keeps all of the
+// engine; the harness's own cells (about 70 flip-flops and the fold of the
+// result) are the same at every channel count and drop out of the slope.
+`default_nettype none
+module twh_engine_bench #(
+    parameter integer CLK_HZ   = 48_000_000,
+    parameter integer CHANNELS = 32,
+    parameter integer CW       = (CHANNELS > 1) ? $clog2(CHANNELS) : 1
+) (
+    input  wire                clk,
+    input  wire                rst,
+    input  wire                sin,        // shifted into the port register
+    input  wire                go,         // 1: present a command, 2nd pin: a timing write
+    input  wire                go_t,
+    output reg                 sout,       // the result, folded
+    output wire [CHANNELS-1:0] line_o,
+    output wire [CHANNELS-1:0] line_oe,
+    input  wire [CHANNELS-1:0] line_i
+);
+    localparam integer SW = CW + 8 + 16 + 8 + 4 + 1;
+    reg [SW-1:0] sr;
+    always @(posedge clk) sr <= {sr[SW-2:0], sin};
+    wire tick, tick_nx, fall;
+    twh_carrier #(.CLK_HZ(CLK_HZ)) u_carrier (.clk(clk), .rst(rst), .tick(tick),
+                                              .tick_nx(tick_nx), .fall(fall));
+    wire          ready, rv;
+    wire [CW-1:0] rch;
+    wire [7:0]    rcode, rtag;
+    wire [15:0]   rdata;
+    wire [3:0]    rst_s;
+    wire [CHANNELS-1:0] busy;
+    twh_engine #(.CLK_HZ(CLK_HZ), .CHANNELS(CHANNELS)) u_engine (
+        .clk(clk), .rst(rst), .tick(tick), .fall(fall), .cfg_idle_charge(sr[0]),
+        .t_we(go_t), .t_ch(sr[CW-1:0]), .t_fld(sr[CW +: 3]), .t_len(sr[CW+3 +: 16]),
+        .s_cmd_valid(go), .s_cmd_ready(ready), .s_cmd_ch(sr[CW-1:0]),
+        .s_cmd_code(sr[CW +: 8]), .s_cmd_payload(sr[CW+8 +: 16]), .s_cmd_tag(sr[CW+24 +: 8]),
+        .s_cmd_skip(sr[CW+32 +: 4]),
+        .m_res_valid(rv), .m_res_ready(sr[SW-1]), .m_res_ch(rch), .m_res_code(rcode),
+        .m_res_data(rdata), .m_res_status(rst_s), .m_res_tag(rtag),
+        .line_o(line_o), .line_oe(line_oe), .line_i(line_i), .busy(busy)
+    );
+    always @(posedge clk) sout <= ^{ready, rv, rch, rcode, rtag, rdata, rst_s, busy};
+endmodule
+`default_nettype wire
