@@ -50,6 +50,10 @@ module twh_engine #(
     parameter integer TAG_W     = 8,
     parameter integer QDEPTH    = 4,
     parameter integer GLITCH_NS = 100,
+    // 1: the state and queue RAMs in block RAM at any depth (iCE40: a
+    // shallow one would otherwise be flip-flops); 0: synthesis chooses
+    // (ECP5: LUT RAM while shallow)
+    parameter integer RAM_BLOCK = 1,
     // derived, not to be set
     parameter integer CW        = (CHANNELS > 1) ? $clog2(CHANNELS) : 1
 ) (
@@ -158,7 +162,7 @@ module twh_engine #(
     reg  [W-1:0]  s3_word;
     reg           s3_v;
     reg  [CW-1:0] s3_ch;
-    twh_ram #(.W(W), .AW(CW)) u_state (
+    twh_ram #(.W(W), .AW(CW), .BLOCK(RAM_BLOCK)) u_state (
         .clk(clk), .we(s3_v), .waddr(s3_ch), .wdata(s3_word),
         .raddr(s0_ch), .rdata(st_rd)
     );
@@ -173,7 +177,7 @@ module twh_engine #(
         .a(s_cmd_code), .b(s_cmd_code[7] ? s_cmd_payload[15:8] : 8'd0),
         .c(s_cmd_payload[7:0]), .chk(push_chk)
     );
-    twh_ram #(.W(QE), .AW(CW + QW)) u_queue (
+    twh_ram #(.W(QE), .AW(CW + QW), .BLOCK(RAM_BLOCK)) u_queue (
         .clk(clk), .we(push), .waddr({s_cmd_ch, q_tail[s_cmd_ch*QW +: QW]}),
         .wdata({s_cmd_code, s_cmd_code[7] ? s_cmd_payload[15:8] : 8'd0, s_cmd_payload[7:0],
                 s_cmd_tag, s_cmd_skip, push_chk}),
@@ -182,7 +186,7 @@ module twh_engine #(
     assign s_cmd_ready = !q_full[s_cmd_ch];
 
     wire [15:0] t_rd;
-    twh_ram #(.W(16), .AW(CW + 3)) u_timing (
+    twh_ram #(.W(16), .AW(CW + 3), .BLOCK(RAM_BLOCK)) u_timing (
         .clk(clk), .we(t_we), .waddr({t_ch, t_fld}), .wdata(t_len),
         .raddr({s0_ch, nxf[s0_ch*3 +: 3]}), .rdata(t_rd)
     );
@@ -546,6 +550,10 @@ module twh_engine #(
         end
     end
     localparam [7:0] F_ONE = 8'd1;
+    // ticks come a carrier period apart (P or P+1 clocks: twh_carrier's own
+    // proof); assumed here so that an induction trace cannot start from a
+    // carrier state its proof excludes
+    always @(*) if (f_ticked) assume(f_since <= P[7:0] + 8'd1);
 
     // the shadow: the word the tracked channel's last visit wrote
     reg [W-1:0] f_w;
@@ -593,6 +601,9 @@ module twh_engine #(
             if (f_ticked && f_since == {{(8-CW){1'b0}}, f_ch} + F_ONE && f_since <= P[7:0])
                 assert(s0_v && s0_ch == f_ch);
             if (tick) assert(!s0_v);
+            // nothing is visited before the first tick after reset
+            if (!f_ticked) assert(!s0_v && !s1_v && !s2_v && !s3_v && !s4_v && !f_wr &&
+                                  init == {CN{1'b0}});
             // the stages carry what S0 read, a clock apart
             if (s1_v) assert(s1_ch < CHANNELS);
             if (s2_v) assert(s2_ch < CHANNELS);
@@ -612,11 +623,14 @@ module twh_engine #(
             assert(nxf[f_ch*3 +: 3] == f_fld(f_ph));
             if (s2_v && s2_ch == f_ch) assert(f_s2_fld == f_fld(f_ph));
             // the queue: its count is tail - head, full at QDEPTH, and a
-            // transaction or a waiting result always has its entry
+            // transaction or a waiting result always has its entry (so a
+            // pop never finds the queue empty: one result per command)
             assert(f_qcnt <= QDEPTH[QW:0]);
             assert(f_qcnt[QW-1:0] == f_tail - f_head);
             assert(q_full[f_ch] == (f_qcnt == QDEPTH[QW:0]));
-            if (f_cur[19] || f_ph != `TWH_PH_IDLE) assert(f_qcnt != {(QW+1){1'b0}});
+            // (a result handed over in the turnaround has popped its entry)
+            if (f_cur[19] || (f_ph != `TWH_PH_IDLE && f_ph != `TWH_PH_TURNAROUND))
+                assert(f_qcnt != {(QW+1){1'b0}});
             if (s3_v && s3_ch == f_ch && s3_res) assert(f_qcnt != {(QW+1){1'b0}});
             // a result waits only between a listen's end (or a skip) and
             // the next charge

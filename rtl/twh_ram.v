@@ -1,11 +1,16 @@
 // Simple dual-port memory: one write port, one read port whose data is
 // registered (block RAM on the iCE40s and the ECP5). Nothing is reset: a
 // user that needs defaults keeps a flag of its own per word (the engine's
-// `init` per channel).
+// `init` per channel). BLOCK = 1 asks for block RAM even where Yosys would
+// build a shallow memory of flip-flops (the iCE40s have no LUT RAM, so a
+// 2- or 4-word memory of 68 bits would cost 136 or 272 of them); BLOCK = 0
+// leaves the choice to synthesis (on the ECP5 a shallow memory becomes LUT
+// RAM, whose read is faster than a block RAM's).
 `default_nettype none
 module twh_ram #(
-    parameter integer W  = 16,
-    parameter integer AW = 8
+    parameter integer W     = 16,
+    parameter integer AW    = 8,
+    parameter integer BLOCK = 0
 ) (
     input  wire          clk,
     input  wire          we,
@@ -16,10 +21,20 @@ module twh_ram #(
 );
     // a read of the word written in the same clock is never used: the
     // engine reads a channel's word at least four clocks after its write
-    (* no_rw_check *) reg [W-1:0] mem [0:(1 << AW) - 1];
-    always @(posedge clk) begin
-        if (we) mem[waddr] <= wdata;
-        rdata <= mem[raddr];
-    end
+    generate
+        if (BLOCK != 0) begin : g_block
+            (* ram_style = "block" *) (* no_rw_check *) reg [W-1:0] mem [0:(1 << AW) - 1];
+            always @(posedge clk) begin
+                if (we) mem[waddr] <= wdata;
+                rdata <= mem[raddr];
+            end
+        end else begin : g_auto
+            (* no_rw_check *) reg [W-1:0] mem [0:(1 << AW) - 1];
+            always @(posedge clk) begin
+                if (we) mem[waddr] <= wdata;
+                rdata <= mem[raddr];
+            end
+        end
+    endgenerate
 endmodule
 `default_nettype wire

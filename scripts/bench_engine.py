@@ -36,7 +36,11 @@ def main():
     for part in a.parts:
         rows = {}
         for n in a.channels:
-            runs = [synth(part, "twh_engine_bench", {"CHANNELS": n, "CLK_HZ": a.clk_hz}, FILES,
+            # block RAM at every depth on the iCE40s (no LUT RAM there);
+            # on the ECP5 synthesis chooses (LUT RAM while shallow)
+            params = {"CHANNELS": n, "CLK_HZ": a.clk_hz,
+                      "RAM_BLOCK": 0 if part.startswith("ecp5") else 1}
+            runs = [synth(part, "twh_engine_bench", params, FILES,
                           TARGET[part], f"build/bench-engine/{part}-{n}-s{s}", seed=s)
                     for s in range(1, a.seeds + 1)]
             r = runs[0]

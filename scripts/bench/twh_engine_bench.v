@@ -9,6 +9,7 @@
 module twh_engine_bench #(
     parameter integer CLK_HZ   = 48_000_000,
     parameter integer CHANNELS = 32,
+    parameter integer RAM_BLOCK = 1,
     parameter integer CW       = (CHANNELS > 1) ? $clog2(CHANNELS) : 1
 ) (
     input  wire                clk,
@@ -33,7 +34,7 @@ module twh_engine_bench #(
     wire [15:0]   rdata;
     wire [3:0]    rst_s;
     wire [CHANNELS-1:0] busy;
-    twh_engine #(.CLK_HZ(CLK_HZ), .CHANNELS(CHANNELS)) u_engine (
+    twh_engine #(.CLK_HZ(CLK_HZ), .CHANNELS(CHANNELS), .RAM_BLOCK(RAM_BLOCK)) u_engine (
         .clk(clk), .rst(rst), .tick(tick), .fall(fall), .cfg_idle_charge(sr[0]),
         .t_we(go_t), .t_ch(sr[CW-1:0]), .t_fld(sr[CW +: 3]), .t_len(sr[CW+3 +: 16]),
         .s_cmd_valid(go), .s_cmd_ready(ready), .s_cmd_ch(sr[CW-1:0]),
