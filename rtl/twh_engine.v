@@ -38,7 +38,8 @@
 //
 // Phase lengths (microseconds, already clamped) come from a timing RAM of
 // eight words a channel, read at every visit for the field the channel's
-// next programmable phase needs (kept per channel in flip-flops, `nxf`).
+// next programmable phase needs (from its phase, kept per channel in
+// flip-flops, `ph_q`, which is also the `phase` output).
 //
 // Phases, line drive and the receiver's rules are twh_link's and twh_rx's
 // (codes in twh_defs.vh).
@@ -61,7 +62,7 @@ module twh_engine #(
     input  wire                rst,
     input  wire                tick,           // twh_carrier's
     input  wire                fall,
-    input  wire                cfg_idle_charge,
+    input  wire [CHANNELS-1:0] cfg_idle_charge,  // per channel: carrier while idle
     // phase lengths, microseconds, clamped: field 1 charge .. 6 turnaround
     input  wire                t_we,
     input  wire [CW-1:0]       t_ch,
@@ -87,7 +88,8 @@ module twh_engine #(
     output wire [CHANNELS-1:0] line_o,
     output wire [CHANNELS-1:0] line_oe,
     input  wire [CHANNELS-1:0] line_i,
-    output wire [CHANNELS-1:0] busy            // a command queued or running
+    output wire [CHANNELS-1:0] busy,           // a command queued or running
+    output wire [CHANNELS*3-1:0] phase         // each channel's phase as its last visit left it
 );
     localparam integer P    = CLK_HZ / 1_000_000;
     localparam integer FRAC = CLK_HZ % 1_000_000;
@@ -136,7 +138,7 @@ module twh_engine #(
     reg  [CN*QW-1:0]     q_tail;
     reg  [CN*(QW+1)-1:0] q_cnt;
     reg  [CN-1:0]        q_full;         // q_cnt == QDEPTH
-    reg  [CN*3-1:0]      nxf;            // the timing field the next phase needs
+    reg  [CN*3-1:0]      ph_q;           // each channel's phase, as its last visit wrote it
     reg  [CN-1:0]        init;           // the word was written since reset
     wire [CN-1:0]        seen;
 
@@ -156,6 +158,23 @@ module twh_engine #(
             s0_ch <= s0_ch + 1'b1;
         end
     end
+
+    // The timing field the phase after `p` loads (twh_timing's codes: 1
+    // charge .. 6 turnaround). The command phase's length is fixed, so
+    // preamble names execute; the idle after a turnaround is one tick, so
+    // turnaround names charge.
+    function [2:0] fld_of;
+        input [2:0] p;
+        case (p)
+            `TWH_PH_CHARGE:   fld_of = 3'd2;
+            `TWH_PH_SYNC:     fld_of = 3'd3;
+            `TWH_PH_PREAMBLE: fld_of = 3'd4;
+            `TWH_PH_COMMAND:  fld_of = 3'd4;
+            `TWH_PH_EXECUTE:  fld_of = 3'd5;
+            `TWH_PH_LISTEN:   fld_of = 3'd6;
+            default:          fld_of = 3'd1;
+        endcase
+    endfunction
 
     // ------------------------------------------------------------ RAMs
     wire [W-1:0]  st_rd;
@@ -188,7 +207,7 @@ module twh_engine #(
     wire [15:0] t_rd;
     twh_ram #(.W(16), .AW(CW + 3), .BLOCK(RAM_BLOCK)) u_timing (
         .clk(clk), .we(t_we), .waddr({t_ch, t_fld}), .wdata(t_len),
-        .raddr({s0_ch, nxf[s0_ch*3 +: 3]}), .rdata(t_rd)
+        .raddr({s0_ch, fld_of(ph_q[s0_ch*3 +: 3])}), .rdata(t_rd)
     );
 
     // ------------------------------------------------------------ S1, S2
@@ -307,7 +326,6 @@ module twh_engine #(
     // the sequencer's step
     reg [W-1:0] wn;
     reg         hand;       // hand the waiting result over (pops the queue)
-    reg [2:0]   fld_n;
 
     always @(*) begin
         wn   = w;
@@ -384,26 +402,11 @@ module twh_engine #(
                 end
         endcase
     end
-    always @(*) begin
-        // the field the phase after the new one loads (the command phase's
-        // length is fixed, so preamble names execute; the idle after a
-        // turnaround is one tick, so turnaround names charge)
-        case (wn[2:0])
-            `TWH_PH_IDLE:       fld_n = 3'd1;
-            `TWH_PH_CHARGE:     fld_n = 3'd2;
-            `TWH_PH_SYNC:       fld_n = 3'd3;
-            `TWH_PH_PREAMBLE:   fld_n = 3'd4;
-            `TWH_PH_COMMAND:    fld_n = 3'd4;
-            `TWH_PH_EXECUTE:    fld_n = 3'd5;
-            `TWH_PH_LISTEN:     fld_n = 3'd6;
-            default:            fld_n = 3'd1;
-        endcase
-    end
 
     // ------------------------------------------------------------ S3
     reg          s3_last;
     reg [31:0]   s3_q;
-    reg [2:0]    s3_fld;
+    reg          s3_ich;
     reg [7:0]    s3_code;
     reg [15:0]   s3_data;
     reg [3:0]    s3_status;
@@ -414,7 +417,7 @@ module twh_engine #(
         s3_word   <= wn;
         s3_last   <= last;
         s3_q      <= {q_code, q_pmsb, q_plsb, q_chk};
-        s3_fld    <= fld_n;
+        s3_ich    <= cfg_idle_charge[s2_ch];
         s3_res    <= !rst && s2_v && hand;
         s3_code   <= q_code;
         s3_data   <= w[U0 +: 16];
@@ -443,7 +446,7 @@ module twh_engine #(
     always @(posedge clk) begin
         s4_v  <= !rst && s3_v;
         s4_ch <= s3_ch;
-        s4_oe <= (n_ph != `TWH_PH_LISTEN) && (n_ph != `TWH_PH_IDLE || (cfg_idle_charge && s3_last));
+        s4_oe <= (n_ph != `TWH_PH_LISTEN) && (n_ph != `TWH_PH_IDLE || (s3_ich && s3_last));
         s4_on <= (n_ph == `TWH_PH_CHARGE) || (n_ph == `TWH_PH_PREAMBLE) ||
                  (n_ph == `TWH_PH_EXECUTE) || (n_ph == `TWH_PH_IDLE) ||
                  (n_ph == `TWH_PH_COMMAND && t_level);
@@ -481,7 +484,7 @@ module twh_engine #(
                         q_tail[n*QW +: QW]      <= {QW{1'b0}};
                         q_cnt[n*(QW+1) +: QW+1] <= {(QW+1){1'b0}};
                         q_full[n]               <= 1'b0;
-                        nxf[n*3 +: 3]           <= 3'd1;
+                        ph_q[n*3 +: 3]          <= `TWH_PH_IDLE;
                         init[n]                 <= 1'b0;
                     end else begin
                         if (pop)    q_head[n*QW +: QW] <= q_head[n*QW +: QW] + 1'b1;
@@ -495,7 +498,7 @@ module twh_engine #(
                             q_full[n]               <= (cnt_n == QFULL_M1);
                         end
                         if (at_s3) begin
-                            nxf[n*3 +: 3] <= s3_fld;
+                            ph_q[n*3 +: 3] <= s3_word[2:0];
                             init[n]       <= 1'b1;
                         end
                     end
@@ -507,6 +510,7 @@ module twh_engine #(
                     .line_i(line_i[n]), .line_o(line_o[n]), .line_oe(line_oe[n])
                 );
                 assign busy[n] = (cnt_n != {(QW+1){1'b0}});
+                assign phase[n*3 +: 3] = ph_q[n*3 +: 3];
             end else begin : g_off
                 // indices past the last channel (CHANNELS not a power of two)
                 always @(posedge clk) begin
@@ -514,7 +518,7 @@ module twh_engine #(
                     q_tail[n*QW +: QW]      <= {QW{1'b0}};
                     q_cnt[n*(QW+1) +: QW+1] <= {(QW+1){1'b0}};
                     q_full[n]               <= 1'b1;    // no command is taken
-                    nxf[n*3 +: 3]           <= 3'd1;
+                    ph_q[n*3 +: 3]          <= `TWH_PH_IDLE;
                     init[n]                 <= 1'b0;
                 end
                 assign seen[n] = 1'b0;
@@ -585,7 +589,7 @@ module twh_engine #(
     // the field the tracked channel's read asked for, carried to S2
     reg [2:0] f_s1_fld, f_s2_fld;
     always @(posedge clk) begin
-        f_s1_fld <= nxf[s0_ch*3 +: 3];
+        f_s1_fld <= fld_of(ph_q[s0_ch*3 +: 3]);
         f_s2_fld <= f_s1_fld;
     end
 
@@ -620,7 +624,7 @@ module twh_engine #(
             if (s2_v && s2_ch == f_ch) assert(s2_w == f_cur && s2_last == (f_cur[18:4] == 15'd0));
             assert(init[f_ch] == f_wr);
             // the timing field is the one the phase's successor loads
-            assert(nxf[f_ch*3 +: 3] == f_fld(f_ph));
+            assert(ph_q[f_ch*3 +: 3] == f_ph);
             if (s2_v && s2_ch == f_ch) assert(f_s2_fld == f_fld(f_ph));
             // the queue: its count is tail - head, full at QDEPTH, and a
             // transaction or a waiting result always has its entry (so a

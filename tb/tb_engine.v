@@ -27,7 +27,7 @@ module tb_engine #(
     parameter integer CW       = (CHANNELS > 1) ? $clog2(CHANNELS) : 1
 ) (
     input  wire                rst,
-    input  wire                cfg_idle_charge,
+    input  wire [CHANNELS-1:0] cfg_idle_charge,
     input  wire                t_we,
     input  wire [CW-1:0]       t_ch,
     input  wire [2:0]          t_fld,
@@ -46,7 +46,8 @@ module tb_engine #(
     output wire [15:0]         m_res_data,
     output wire [3:0]          m_res_status,
     output wire [7:0]          m_res_tag,
-    output wire [CHANNELS-1:0] busy
+    output wire [CHANNELS-1:0] busy,
+    output wire [CHANNELS*3-1:0] phase
 );
     reg clk = 1'b0;
     localparam real HALF_NS = 1.0e9 / (2.0 * CLK_HZ);
@@ -65,7 +66,7 @@ module tb_engine #(
         .m_res_valid(m_res_valid), .m_res_ready(m_res_ready), .m_res_ch(m_res_ch),
         .m_res_code(m_res_code), .m_res_data(m_res_data), .m_res_status(m_res_status),
         .m_res_tag(m_res_tag),
-        .line_o(line_o), .line_oe(line_oe), .line_i(line), .busy(busy)
+        .line_o(line_o), .line_oe(line_oe), .line_i(line), .busy(busy), .phase(phase)
     );
     genvar n;
     generate

@@ -34,16 +34,18 @@ module twh_engine_bench #(
     wire [15:0]   rdata;
     wire [3:0]    rst_s;
     wire [CHANNELS-1:0] busy;
+    wire [CHANNELS*3-1:0] phase;
     twh_engine #(.CLK_HZ(CLK_HZ), .CHANNELS(CHANNELS), .RAM_BLOCK(RAM_BLOCK)) u_engine (
-        .clk(clk), .rst(rst), .tick(tick), .fall(fall), .cfg_idle_charge(sr[0]),
+        .clk(clk), .rst(rst), .tick(tick), .fall(fall), .cfg_idle_charge(sr[CHANNELS-1:0]),
         .t_we(go_t), .t_ch(sr[CW-1:0]), .t_fld(sr[CW +: 3]), .t_len(sr[CW+3 +: 16]),
         .s_cmd_valid(go), .s_cmd_ready(ready), .s_cmd_ch(sr[CW-1:0]),
         .s_cmd_code(sr[CW +: 8]), .s_cmd_payload(sr[CW+8 +: 16]), .s_cmd_tag(sr[CW+24 +: 8]),
         .s_cmd_skip(sr[CW+32 +: 4]),
         .m_res_valid(rv), .m_res_ready(sr[SW-1]), .m_res_ch(rch), .m_res_code(rcode),
         .m_res_data(rdata), .m_res_status(rst_s), .m_res_tag(rtag),
-        .line_o(line_o), .line_oe(line_oe), .line_i(line_i), .busy(busy)
+        .line_o(line_o), .line_oe(line_oe), .line_i(line_i), .busy(busy),
+        .phase(phase)
     );
-    always @(posedge clk) sout <= ^{ready, rv, rch, rcode, rtag, rdata, rst_s, busy};
+    always @(posedge clk) sout <= ^{ready, rv, rch, rcode, rtag, rdata, rst_s, busy, phase};
 endmodule
 `default_nettype wire
