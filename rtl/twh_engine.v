@@ -1,5 +1,5 @@
 // One engine for every channel: each channel's sequencer and receiver state
-// is a word of block RAM, and a four-stage pipeline steps every channel in
+// is a word of block RAM, and a five-stage pipeline steps every channel in
 // turn once per carrier period (1 us), so all channels run concurrently from
 // shared logic. Per channel, only what must run at the clock stays in
 // flip-flops: the pin logic (twh_engine_pin: synchroniser, glitch filter,
@@ -8,20 +8,21 @@
 //
 // The scan. The carrier's tick starts a scan: channel c is read (S0) in the
 // (c+1)th clock after the tick, its word and operands come out of the RAMs
-// (S1) and are registered (S2), the next word, the drive and the queue's
-// and result's moves are computed from them and registered (S3), and
-// written in the fourth clock after the read. A channel is read again a
-// carrier period (P clocks, P >= 4) after its last read, so it always reads
-// what its last visit wrote; a channel's drive is taken by its pin at a
-// fixed number of ticks after its visit (one tick if the write lands
-// before the next tick, else two; the clock floor below keeps that number
-// the same at every visit), so every phase lasts exactly its number of
-// periods on the line.
+// (S1) and are registered (S2), the next word and the queue's and result's
+// moves are computed from them and registered (S3), and written three
+// clocks after the read, while the drive for the next period is computed
+// from the new word (S4: the pin takes it a clock later). A channel is read
+// again a carrier period (P clocks, P >= 4) after its last read, so it
+// always reads what its last visit wrote; a channel's pin takes its drive
+// at a fixed number of ticks after its visit (one tick if it lands before
+// the next tick, else two; the clock floor below keeps that number the same
+// at every visit), so every phase lasts exactly its number of periods on
+// the line.
 //
-// Clock floor (checked at elaboration): with a whole number of MHz, P >= 4
-// and P >= CHANNELS (a scan ends before the next begins); with a fraction
-// (periods of P and P+1 clocks), P >= CHANNELS + 4, so every drive lands
-// before the next tick.
+// Clock floor (checked at elaboration): with a whole number of MHz, P >= 4,
+// P >= CHANNELS (a scan ends before the next begins) and CHANNELS + 4 < 2P
+// (a drive lands within two ticks); with a fraction (periods of P and P+1
+// clocks), P >= CHANNELS + 5, so every drive lands before the next tick.
 //
 // Commands. Each channel has a queue of QDEPTH entries in one RAM (its slice
 // {channel, index}), its pointers in flip-flops: a command for an idle
@@ -98,13 +99,18 @@ module twh_engine #(
     localparam integer QM1_I = QDEPTH - 1;
     localparam [QW:0]  QFULL_M1 = QM1_I[QW:0];
 
+    // The ranges (tb/test_params.py reads them and checks that every tool
+    // names the error module of a value outside them). The clock floor is
+    // docs/engine.md's: with a whole number of MHz P >= 4, P >= CHANNELS and
+    // CHANNELS + 4 < 2P; with a fraction P >= CHANNELS + 5.
+    localparam integer CHANNELS_MIN = 1;
+    localparam integer CHANNELS_MAX = 32;
     generate
-        if (CHANNELS < 1 || CHANNELS > 32) begin : g_bad_channels
+        if (CHANNELS < CHANNELS_MIN || CHANNELS > CHANNELS_MAX) begin : g_bad_channels
             twh_error_CHANNELS_must_be_1_to_32 u_err ();
-        end
-        if (P < 4 || P < CHANNELS || CHANNELS + 4 >= 2 * P ||
-            (FRAC != 0 && P < CHANNELS + 5)) begin : g_bad_floor
-            twh_error_CLK_HZ_below_the_engine_floor_of_CHANNELS_MHz u_err ();
+        end else if (P < 4 || P < CHANNELS || CHANNELS + 4 >= 2 * P ||
+                     (FRAC != 0 && P < CHANNELS + 5)) begin : g_bad_floor
+            twh_error_CLK_HZ_below_the_engine_floor_for_CHANNELS u_err ();
         end
         if ((1 << QW) != QDEPTH || QDEPTH < 2) begin : g_bad_qdepth
             twh_error_QDEPTH_must_be_a_power_of_two_of_at_least_2 u_err ();

@@ -1,5 +1,7 @@
 """A parameter out of its range stops every tool with a message that names
-the parameter and the range (issue 34; docs/integration.md, "Parameters").
+the parameter and the range (issue 34; docs/integration.md, "Parameters";
+the time-shared engine's channel range, clock floor and queue depth:
+docs/engine.md).
 
 The ranges are localparams, CHANNELS' and FIFO_DEPTH's in rtl/twh_core.v,
 CLK_HZ's in rtl/twh_carrier.v, and an out-of-range value instantiates a
@@ -34,6 +36,7 @@ import simrun
 ROOT = Path(__file__).resolve().parents[1]
 CORE_V = ROOT / "rtl" / "twh_core.v"
 CARRIER_V = ROOT / "rtl" / "twh_carrier.v"
+ENGINE_V = ROOT / "rtl" / "twh_engine.v"
 
 # each case a few tenths of a second, YoWASP's about one (its first run on
 # a machine compiles it: the fixture below does that, outside the budget)
@@ -59,6 +62,7 @@ def _localparam(path, name):
 CH_MIN, CH_MAX = _localparam(CORE_V, "CHANNELS_MIN"), _localparam(CORE_V, "CHANNELS_MAX")
 FD_MIN, FD_MAX = _localparam(CORE_V, "FIFO_DEPTH_MIN"), _localparam(CORE_V, "FIFO_DEPTH_MAX")
 CLK_MIN, CLK_MAX = _localparam(CARRIER_V, "CLK_HZ_MIN"), _localparam(CARRIER_V, "CLK_HZ_MAX")
+ECH_MIN, ECH_MAX = _localparam(ENGINE_V, "CHANNELS_MIN"), _localparam(ENGINE_V, "CHANNELS_MAX")
 
 # the error module each parameter's check instantiates, named for its range
 ERROR = {
@@ -66,6 +70,33 @@ ERROR = {
     "FIFO_DEPTH": f"twh_error_FIFO_DEPTH_must_be_a_power_of_two_{FD_MIN}_to_{FD_MAX}",
     "CLK_HZ": f"twh_error_CLK_HZ_must_be_{CLK_MIN // 1_000_000}MHz_to_{CLK_MAX // 1_000_000}MHz",
 }
+
+# the time-shared engine (issue 34, docs/engine.md; not yet behind the bus
+# tops): its channel range, its clock floor (which grows with CHANNELS) and
+# its queue depth
+ENGINE_ERROR = {
+    "CHANNELS": f"twh_error_CHANNELS_must_be_{ECH_MIN}_to_{ECH_MAX}",
+    "CLK_HZ": "twh_error_CLK_HZ_below_the_engine_floor_for_CHANNELS",
+    "QDEPTH": "twh_error_QDEPTH_must_be_a_power_of_two_of_at_least_2",
+}
+# (parameters, the one that is out of range): each end of the channel range,
+# the floor at a whole number of MHz (8 channels at 4 MHz; 4 at 4 MHz, where
+# the drive would not land within two ticks), with a fraction (5 channels
+# at 9.5 MHz), a queue depth that is no power of two
+ENGINE_BAD = [
+    ({"CHANNELS": ECH_MIN - 1, "CLK_HZ": 48_000_000}, "CHANNELS"),
+    ({"CHANNELS": ECH_MAX + 1, "CLK_HZ": 48_000_000}, "CHANNELS"),
+    ({"CHANNELS": 8, "CLK_HZ": 4_000_000}, "CLK_HZ"),
+    ({"CHANNELS": 4, "CLK_HZ": 4_000_000}, "CLK_HZ"),
+    ({"CHANNELS": 5, "CLK_HZ": 9_500_000}, "CLK_HZ"),
+    ({"CHANNELS": 3, "CLK_HZ": 4_000_000, "QDEPTH": 3}, "QDEPTH"),
+]
+ENGINE_GOOD = [
+    {"CHANNELS": ECH_MIN, "CLK_HZ": 4_000_000},
+    {"CHANNELS": 3, "CLK_HZ": 4_000_000},
+    {"CHANNELS": 5, "CLK_HZ": 10_500_000},
+    {"CHANNELS": ECH_MAX, "CLK_HZ": 32_000_000},
+]
 
 # (top, parameter, bad value): below and above each range, far above it
 # (CHANNELS: 0, 9, 16 and 32 while the range is 1-8), a FIFO depth inside
@@ -171,3 +202,27 @@ def test_range_ends_elaborate(tools, tool, top, params, tmp_path):
     shown = f"{tool} {top} {params}: exit {rc}\n{out[-3000:]}"
     assert rc == 0, shown
     assert "twh_error_" not in out, shown
+
+
+@pytest.mark.parametrize("tool", TOOLS)
+@pytest.mark.parametrize("params,param", ENGINE_BAD,
+                         ids=["-".join(f"{k}={v}" for k, v in p.items()) for p, _ in ENGINE_BAD])
+def test_engine_bad_parameter(tools, tool, params, param, tmp_path):
+    rc, out = _elaborate(tool, tools, "twh_engine", params, tmp_path)
+    shown = f"{tool} twh_engine {params}: exit {rc}\n{out[-3000:]}"
+    assert 0 < rc < 128, shown
+    assert not CRASH.search(out), shown
+    errors = [l for l in out.splitlines() if re.search(r"error", l, re.I)]
+    assert any(ENGINE_ERROR[param] in l for l in errors), shown
+    assert set(re.findall(r"twh_error_\w+", out)) == {ENGINE_ERROR[param]}, shown
+
+
+@pytest.mark.parametrize("tool", TOOLS)
+@pytest.mark.parametrize("params", ENGINE_GOOD,
+                         ids=["-".join(f"{k}={v}" for k, v in p.items()) for p in ENGINE_GOOD])
+def test_engine_floor_ends_elaborate(tools, tool, params, tmp_path):
+    rc, out = _elaborate(tool, tools, "twh_engine", params, tmp_path)
+    shown = f"{tool} twh_engine {params}: exit {rc}\n{out[-3000:]}"
+    assert rc == 0, shown
+    assert "twh_error_" not in out, shown
+
