@@ -34,7 +34,7 @@ HANG_FACTOR = 2
 # core's, with the Verilator runtime, then the engine's, which waits for
 # that runtime on its lock while the first build compiles it on both
 # cores).
-LONG_MODULES = ("test_twh_engine.py", "test_random.py", "test_twh_link.py", "test_twh_core.py",
+LONG_MODULES = ("test_random.py", "test_twh_link.py", "test_twh_core.py", "test_twh_engine.py",
                 "test_cosim.py", "test_board_top.py")
 
 
