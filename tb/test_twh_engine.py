@@ -128,7 +128,7 @@ class EngineTB:
         on_line = [r for r, s in zip(results, subs) if s[3] == 0]
         log = self.models[ch].log
         assert len(log) == len(on_line), (ch, len(log), len(on_line))
-        for r, s, txn in zip(results, subs, [None] * len(results)):
+        for r, s in zip(results, subs):
             assert (r.code, r.tag) == (s[0], s[2]), (ch, r, s)
             if s[3]:
                 assert r.status == Status(s[3]) and r.data == 0, (ch, r)
