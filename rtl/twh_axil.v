@@ -7,7 +7,8 @@ module twh_axil #(
     parameter integer CHANNELS   = 1,
     parameter integer FIFO_DEPTH = 16,
     parameter integer PROG_TIMING = 1,   // twh_core: features a fixed board may leave out
-    parameter integer POLLING     = 1
+    parameter integer POLLING     = 1,
+    parameter integer ENGINE      = 0    // twh_core: the channels' engine
 ) (
     input  wire                clk,
     input  wire                rst,
@@ -49,7 +50,7 @@ module twh_axil #(
     reg         was_write;
 
     twh_core #(.CLK_HZ(CLK_HZ), .CHANNELS(CHANNELS), .FIFO_DEPTH(FIFO_DEPTH),
-               .PROG_TIMING(PROG_TIMING), .POLLING(POLLING)) u_core (
+               .PROG_TIMING(PROG_TIMING), .POLLING(POLLING), .ENGINE(ENGINE)) u_core (
         .clk(clk), .rst(rst),
         .reg_req(do_write || do_read), .reg_we(do_write),
         .reg_addr(do_write ? s_axil_awaddr : s_axil_araddr),

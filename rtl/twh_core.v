@@ -33,7 +33,12 @@ module twh_core #(
     // builds"); the register map stays the same, the registers of a left-out
     // feature are read-only and say so in VERSION.
     parameter integer PROG_TIMING = 1,   // 0: TIMING0-2 fixed at the defaults, writes refused
-    parameter integer POLLING     = 1    // 0: no poller; POLL_CTRL writes with EN = 1 refused
+    parameter integer POLLING     = 1,   // 0: no poller; POLL_CTRL writes with EN = 1 refused
+    // The channels' engine (docs/engine.md; issue 34 moves the core onto the
+    // second for good): 0, one twh_channel (twh_link) a channel in
+    // flip-flops; 1, the time-shared twh_engine, every channel's state in
+    // RAM, a queue of four commands a channel behind the command FIFO.
+    parameter integer ENGINE      = 0
 ) (
     input  wire                clk,
     input  wire                rst,
@@ -340,6 +345,8 @@ module twh_core #(
 
     wire [CHANNELS-1:0] slot_full;
     wire [7:0] slot_full8;
+    // the head's channel can take it: its slot is empty (ENGINE 0), its
+    // queue not full (ENGINE 1; slot_full8 holds the queues' full flags)
     wire h_slot_free = !slot_full8[h_ch];
     // Dispatch is decided one clock and done the next: the decision reads the
     // FIFO's RAM output (slow on iCE40), the pop and slot load then start
@@ -395,14 +402,20 @@ module twh_core #(
     // CH_COUNT + 1 clocks with room in the FIFO.
     reg        scan_v;
     wire [2:0] scan_nx = (scan == CH_COUNT[2:0] - 3'd1 || CHANNELS == 1) ? 3'd0 : scan + 1'b1;
-    wire res_push = scan_v && !res_full;
-    wire [3:0] push_status = c_res_status[scan*4 +: 4];
+    // what goes into the result FIFO: the scan's channel (ENGINE 0) or the
+    // engine's result register (ENGINE 1)
+    wire        e_res_valid;
+    wire [35:0] e_res;
+    wire        e_cancelling;     // ENGINE 1: a flush's cancels are left in the queues
+    wire res_push = (ENGINE != 0 ? e_res_valid : scan_v) && !res_full;
+    wire [3:0] push_status = ENGINE != 0 ? e_res[27:24] : c_res_status[scan*4 +: 4];
     wire pop_req = q_pop;
 
     twh_fifo #(.W(36), .DEPTH(DEPTH_N)) u_res_fifo (
         .clk(clk), .rst(rst),
         .push(res_push),
-        .din({c_res_tag[scan*5 +: 5], scan, push_status,
+        .din(ENGINE != 0 ? e_res :
+             {c_res_tag[scan*5 +: 5], scan, push_status,
               c_res_cmd[scan*8 +: 8], c_res_data[scan*16 +: 16]}),
         .full(res_full),
         .pop(pop_req), .dout(res_head), .empty(res_empty), .valid_next(res_valid_next),
@@ -452,6 +465,35 @@ module twh_core #(
 
     genvar n;
     generate
+        if (ENGINE != 0) begin : g_engine
+            twh_core_engine #(.CLK_HZ(CLK_HZ), .CHANNELS(CH_N), .POLLING(POLLING)) u_engine (
+                .clk(clk), .rst(rst), .ms_tick(ms_tick), .tick(us_tick), .fall(us_fall),
+                .enable(enable), .idle_charge(idle_charge[CH_N-1:0]),
+                .wdata(q_wdata), .wdata_ok(q_win_p), .wr_poll_ctrl(q_ch & {CH_N{q_wp}}),
+                .nx_fld(c_nx_fld), .dur_we(t_dur_we), .dur(t_dur), .dur_fld(t_dur_fld),
+                .poll_ctrl(c_pc), .poll_result(c_pr), .state(c_st),
+                .poll_sample(c_sample), .poll_error(c_poll_err),
+                .cmd_valid(dispatch), .cmd_ch(disp_ch), .cmd_code(h_cmd),
+                .cmd_payload(h_payload), .cmd_tag(h_tag), .cmd_skip(h_skip),
+                .cancel(flush_wr), .full(slot_full), .cancelling(e_cancelling),
+                .res_valid(e_res_valid), .res_ready(!res_full), .res(e_res),
+                .line_o(line_o), .line_oe(line_oe), .line_i(line_i),
+                .status_busy(c_sbusy)
+            );
+            assign c_res_valid = {CHANNELS{1'b0}};
+            assign c_res_cmd = {(CHANNELS*8){1'b0}};
+            assign c_res_data = {(CHANNELS*16){1'b0}};
+            assign c_res_status = {(CHANNELS*4){1'b0}};
+            assign c_res_tag = {(CHANNELS*5){1'b0}};
+            assign c_busy = c_sbusy;
+            // (the engine steps on the tick itself)
+            // verilator lint_off UNUSEDSIGNAL
+            wire unused_tick_nx = us_tick_nx;
+            // verilator lint_on UNUSEDSIGNAL
+        end else begin : g_channels
+            assign e_res_valid = 1'b0;
+            assign e_res = 36'd0;
+            assign e_cancelling = 1'b0;
         for (n = 0; n < CHANNELS; n = n + 1) begin : g_ch
             wire sel = q_ch[n];
             twh_channel #(.CLK_HZ(CLK_HZ), .POLLING(POLLING)) u_ch (
@@ -477,6 +519,7 @@ module twh_core #(
                 .line_o(line_o[n]), .line_oe(line_oe[n]), .line_i(line_i[n]),
                 .busy(c_busy[n]), .status_busy(c_sbusy[n])
             );
+        end
         end
     endgenerate
 
@@ -612,7 +655,7 @@ module twh_core #(
                                    `TWH_VERSION_MAJOR, `TWH_VERSION_MINOR})
         | ({32{q_r_params}}     & {CLK_KHZ, DEPTH12})
         | ({32{q_r_ctrl}}       & {16'd0, idle_charge, 7'd0, enable})
-        | ({32{q_r_status}}     & {19'd0, flushing, st_res_empty, res_full, st_cmd_empty,
+        | ({32{q_r_status}}     & {19'd0, flushing || e_cancelling, st_res_empty, res_full, st_cmd_empty,
                                    cmd_full, busy8})
         | ({32{q_r_levels}}     & {res_level16, cmd_level16})
         | ({32{q_r_errors}}     & {27'd0, errors})

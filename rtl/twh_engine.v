@@ -31,7 +31,14 @@
 // result is handed over, so the frame's bytes and the result's code and tag
 // are read from the queue at every visit and never copied into the state.
 // A command with a non-zero skip code is answered with that status without
-// reaching the line.
+// reaching the line; so is every entry a flush (cancel) found queued and not
+// yet started (CANCELLED: a count per channel).
+//
+// Polls. A channel's due poll (poll_req, its command from poll_cmd) and its
+// queued commands take turns. A poll has no queue entry: its frame goes into
+// its state word at its start, and its result leaves on p_res at its
+// listen's end, never held back. Nothing starts while `enable` is 0 but
+// skipped and cancelled commands, which are still answered.
 //
 // Results. One result register (m_res_*) serves every channel; a channel
 // whose result is ready hands it over at a visit that finds the register
@@ -64,6 +71,11 @@ module twh_engine #(
     input  wire                tick,           // twh_carrier's
     input  wire                fall,
     input  wire [CHANNELS-1:0] cfg_idle_charge,  // per channel: carrier while idle
+    input  wire                enable,         // 0: only skipped commands are answered
+    input  wire                cancel,         // flush: queued commands not yet started
+                                               // are answered CANCELLED
+    input  wire [CHANNELS-1:0] poll_req,       // per channel: its poll is due (armed, enabled)
+    input  wire [CHANNELS*16-1:0] poll_cmd,    // per channel: {payload, code} of its poll
     // phase lengths, microseconds, clamped: field 1 charge .. 6 turnaround
     input  wire                t_we,
     input  wire [CW-1:0]       t_ch,
@@ -90,7 +102,20 @@ module twh_engine #(
     output wire [CHANNELS-1:0] line_oe,
     input  wire [CHANNELS-1:0] line_i,
     output wire [CHANNELS-1:0] busy,           // a command queued or running
-    output wire [CHANNELS*3-1:0] phase         // each channel's phase as its last visit left it
+    output wire [CHANNELS-1:0] pending,        // a queued command not started yet
+    output wire [CHANNELS-1:0] running,        // its head command started: on the line, or
+                                               // its result waiting to be handed over
+    output wire [CHANNELS-1:0] full,           // its queue is full
+    output wire                cancelling,     // a flush's cancels are still to come
+    output wire [CHANNELS*3-1:0] phase,        // each channel's phase as its last visit left it
+    output wire [CHANNELS*3-1:0] fld,          // the timing field its next phase loads
+    // polls: a poll taken (its channel's due flag is spent), a poll's result;
+    // one-clock strobes with their channel, never held back
+    output reg                 p_take,
+    output reg                 p_res,
+    output reg  [CW-1:0]       p_ch,
+    output reg  [15:0]         p_data,
+    output reg  [3:0]          p_status
 );
     localparam integer P    = CLK_HZ / 1_000_000;
     localparam integer FRAC = CLK_HZ % 1_000_000;
@@ -121,8 +146,9 @@ module twh_engine #(
     // [2:0] phase, [18:3] periods left (this one included), [19] a result
     // waits, [20] the line read low during sync, [21] high during preamble,
     // then the union U, by phase: the receiver's fields in listen; the
-    // command's bit and byte in the command phase; the result (data, status)
-    // while it waits.
+    // command's bit and byte in the command phase (and a poll's frame, which
+    // has no queue entry); the result (data, status) while it waits. Then [PL]:
+    // the transaction is a poll (from its charge to its listen's end).
     localparam integer U0 = 22;
     localparam integer SH = U0;          // 24: received data bits, first in [7:0]
     localparam integer SB = U0 + 24;     // 5: ticks into the bit
@@ -134,7 +160,8 @@ module twh_engine #(
     localparam integer ST = U0 + 43;     // a start bit passed its re-check
     localparam integer FE = U0 + 44;     // framing error
     localparam integer EN = U0 + 45;     // the answer ended in a break
-    localparam integer W  = U0 + 46;
+    localparam integer PL = U0 + 46;     // the transaction is a poll (its frame in SH)
+    localparam integer W  = U0 + 47;
     localparam integer RS = U0 + 16;     // 4: the waiting result's status (data in U[15:0])
     localparam [W-1:0] W_RESET = {{(W-19){1'b0}}, `TWH_TURNAROUND_MIN + 16'd1, `TWH_PH_IDLE};
 
@@ -146,6 +173,10 @@ module twh_engine #(
     reg  [CN-1:0]        q_full;         // q_cnt == QDEPTH
     reg  [CN*3-1:0]      ph_q;           // each channel's phase, as its last visit wrote it
     reg  [CN-1:0]        init;           // the word was written since reset
+    reg  [CHANNELS-1:0]  act;            // the head entry is started: running or its
+                                         // result waiting (act <= q_cnt)
+    reg  [CN-1:0]        pref;           // a due poll goes before a queued command
+    reg  [CN*(QW+1)-1:0] ccnt;           // entries a flush cancelled, not started yet
     wire [CN-1:0]        seen;
 
     // ------------------------------------------------------------ scan
@@ -329,6 +360,24 @@ module twh_engine #(
     reg  s3_res;
     wire res_free = !m_res_valid && !(s3_v && s3_res);
 
+    // What an idle channel may start (read live at S2: a flush or a poll
+    // write between S0 and S2 counts). The head's skip is CANCELLED while a
+    // flush's count is left; a queued command goes unless the engine is off
+    // and it would reach the line; a due poll goes on its turn or when no
+    // command can.
+    wire [QW:0]  s2_cc   = ccnt[s2_ch*(QW+1) +: QW+1];
+    wire [3:0]   h_skip  = (s2_cc != {(QW+1){1'b0}}) ? `TWH_ST_CANCELLED : q_skip;
+    wire         cmd_go  = s2_ne && (enable || h_skip != 4'd0);
+    wire         poll_go = enable && poll_req[s2_ch];
+    wire         use_poll = poll_go && (pref[s2_ch] || !cmd_go);
+    wire [15:0]  p_cmd   = poll_cmd[s2_ch*16 +: 16];
+    wire [7:0]   p_chk;
+    twh_checksum u_pchk (.a(p_cmd[7:0]), .b(8'd0), .c(p_cmd[15:8]), .chk(p_chk));
+    wire         idle_go = (ph == `TWH_PH_IDLE) && last && !rwait;
+    wire         start_q = idle_go && !use_poll && cmd_go;    // the head entry starts
+    wire         start_p = idle_go && use_poll;               // the poll starts
+    wire         poll_end = (ph == `TWH_PH_LISTEN) && last && w[PL];
+
     // the sequencer's step
     reg [W-1:0] wn;
     reg         hand;       // hand the waiting result over (pops the queue)
@@ -340,11 +389,17 @@ module twh_engine #(
         if (!last) wn[18:3] = cnt - 16'd1;
         case (ph)
             `TWH_PH_IDLE:
-                if (last && s2_ne && !rwait) begin
-                    if (q_skip != 4'd0) begin
+                if (start_p) begin
+                    wn[2:0]  = `TWH_PH_CHARGE;
+                    wn[18:3] = s2_len;
+                    wn[21:20] = 2'b00;
+                    wn[SH +: 24] = {p_chk, p_cmd[15:8], p_cmd[7:0]};
+                    wn[PL] = 1'b1;
+                end else if (start_q) begin
+                    if (h_skip != 4'd0) begin
                         wn[19] = 1'b1;
                         wn[U0 +: 16] = 16'd0;
-                        wn[RS +: 4]  = q_skip;
+                        wn[RS +: 4]  = h_skip;
                     end else begin
                         wn[2:0]  = `TWH_PH_CHARGE;
                         wn[18:3] = s2_len;
@@ -367,7 +422,7 @@ module twh_engine #(
                 if (env) wn[21] = 1'b1;
                 if (last) begin
                     wn[2:0] = `TWH_PH_COMMAND;
-                    wn[18:3] = q_code[7] ? 16'd1408 : 16'd1056;
+                    wn[18:3] = (q_code[7] && !w[PL]) ? 16'd1408 : 16'd1056;
                     wn[BN +: 4] = 4'd0;
                     wn[NB +: 2] = 2'd0;
                 end
@@ -394,10 +449,13 @@ module twh_engine #(
                 if (last) begin
                     wn[2:0] = `TWH_PH_TURNAROUND;
                     wn[18:3] = s2_len;
-                    wn[19] = 1'b1;
                     wn[U0 +: 46] = 46'd0;
-                    wn[RS +: 4]  = r_status;
-                    if (r_data_ok) wn[U0 +: 16] = {r_sh[7:0], r_sh[15:8]};
+                    wn[PL] = 1'b0;
+                    if (!w[PL]) begin       // a poll's result leaves on p_res
+                        wn[19] = 1'b1;
+                        wn[RS +: 4]  = r_status;
+                        if (r_data_ok) wn[U0 +: 16] = {r_sh[7:0], r_sh[15:8]};
+                    end
                 end else begin
                     wn[U0 +: 46] = rx_n;
                 end
@@ -411,6 +469,7 @@ module twh_engine #(
 
     // ------------------------------------------------------------ S3
     reg          s3_last;
+    reg          s3_st;         // the visit started its head entry
     reg [31:0]   s3_q;
     reg          s3_ich;
     reg [7:0]    s3_code;
@@ -422,13 +481,21 @@ module twh_engine #(
         s3_ch     <= s2_ch;
         s3_word   <= wn;
         s3_last   <= last;
-        s3_q      <= {q_code, q_pmsb, q_plsb, q_chk};
+        // a poll's frame is in its word (SH: code, payload, checksum)
+        s3_q      <= w[PL] ? {w[SH +: 8], 8'd0, w[SH+8 +: 8], w[SH+16 +: 8]}
+                           : {q_code, q_pmsb, q_plsb, q_chk};
         s3_ich    <= cfg_idle_charge[s2_ch];
         s3_res    <= !rst && s2_v && hand;
         s3_code   <= q_code;
         s3_data   <= w[U0 +: 16];
         s3_status <= w[RS +: 4];
         s3_tag    <= q_tag;
+        s3_st     <= !rst && s2_v && start_q;
+        p_take    <= !rst && s2_v && start_p;
+        p_res     <= !rst && s2_v && poll_end;
+        p_ch      <= s2_ch;
+        p_data    <= r_data_ok ? {r_sh[7:0], r_sh[15:8]} : 16'd0;
+        p_status  <= r_status;
     end
 
     // S3: the drive for the next period, from the new word (twh_link's):
@@ -474,6 +541,8 @@ module twh_engine #(
         end
     end
 
+    assign cancelling = (ccnt != {(CN*(QW+1)){1'b0}});
+
     // ------------------------------------------------------------ per channel
     genvar n;
     generate
@@ -484,6 +553,33 @@ module twh_engine #(
                 // (this channel's own full flag, not the port's multiplexer)
                 wire pushed = s_cmd_valid && (s_cmd_ch == n) && !q_full[n];
                 wire [QW:0] cnt_n = q_cnt[n*(QW+1) +: QW+1];
+                wire [QW:0] cc_n  = ccnt[n*(QW+1) +: QW+1];
+                // the step at S2 starts this channel's head entry / its poll
+                wire at_s2  = s2_v && (s2_ch == n);
+                wire strt_q = at_s2 && start_q;
+                wire strt_3 = at_s3 && s3_st;     // ... written with the word
+                always @(posedge clk) begin
+                    if (rst) begin
+                        act[n]                 <= 1'b0;
+                        pref[n]                <= 1'b0;
+                        ccnt[n*(QW+1) +: QW+1] <= {(QW+1){1'b0}};
+                    end else begin
+                        // a pop (S3) and a start (S2) of one channel are
+                        // never in the same clock: one visit at a time
+                        // (with the word: act is its state's)
+                        if (strt_3) act[n] <= 1'b1;
+                        else if (pop) act[n] <= 1'b0;
+                        if (at_s2 && (start_q || start_p)) pref[n] <= start_q;
+                        // a flush cancels what is queued and not started:
+                        // the entries behind a started head (one whose
+                        // start is on its way to the RAM, or decided in this
+                        // very clock, counts as started)
+                        if (cancel)
+                            ccnt[n*(QW+1) +: QW+1] <= cnt_n - {{QW{1'b0}}, act[n] || strt_3 || strt_q};
+                        else if (strt_q && cc_n != {(QW+1){1'b0}})
+                            ccnt[n*(QW+1) +: QW+1] <= cc_n - 1'b1;
+                    end
+                end
                 always @(posedge clk) begin
                     if (rst) begin
                         q_head[n*QW +: QW]      <= {QW{1'b0}};
@@ -516,7 +612,11 @@ module twh_engine #(
                     .line_i(line_i[n]), .line_o(line_o[n]), .line_oe(line_oe[n])
                 );
                 assign busy[n] = (cnt_n != {(QW+1){1'b0}});
+                assign pending[n] = (cnt_n != {{QW{1'b0}}, act[n]});
+                assign running[n] = act[n];
+                assign full[n]    = q_full[n];
                 assign phase[n*3 +: 3] = ph_q[n*3 +: 3];
+                assign fld[n*3 +: 3] = fld_of(ph_q[n*3 +: 3]);
             end else begin : g_off
                 // indices past the last channel (CHANNELS not a power of two)
                 always @(posedge clk) begin
@@ -526,6 +626,8 @@ module twh_engine #(
                     q_full[n]               <= 1'b1;    // no command is taken
                     ph_q[n*3 +: 3]          <= `TWH_PH_IDLE;
                     init[n]                 <= 1'b0;
+                    pref[n]                 <= 1'b0;
+                    ccnt[n*(QW+1) +: QW+1]  <= {(QW+1){1'b0}};
                 end
                 assign seen[n] = 1'b0;
             end
@@ -638,9 +740,19 @@ module twh_engine #(
             assert(f_qcnt <= QDEPTH[QW:0]);
             assert(f_qcnt[QW-1:0] == f_tail - f_head);
             assert(q_full[f_ch] == (f_qcnt == QDEPTH[QW:0]));
-            // (a result handed over in the turnaround has popped its entry)
-            if (f_cur[19] || (f_ph != `TWH_PH_IDLE && f_ph != `TWH_PH_TURNAROUND))
-                assert(f_qcnt != {(QW+1){1'b0}});
+            // (a result handed over in the turnaround has popped its entry;
+            // a poll has none): the head is started exactly while its
+            // transaction runs or its result waits, and a flush's count
+            // never exceeds the entries behind it
+            assert(act[f_ch] == (f_cur[19] || (!f_cur[PL] && f_ph != `TWH_PH_IDLE &&
+                                                f_ph != `TWH_PH_TURNAROUND)));
+            if (act[f_ch]) assert(f_qcnt != {(QW+1){1'b0}});
+            assert(ccnt[f_ch*(QW+1) +: QW+1] <= f_qcnt - {{QW{1'b0}}, act[f_ch]} -
+                   {{QW{1'b0}}, s3_v && s3_ch == f_ch && s3_st});
+            if (s3_v && s3_ch == f_ch && s3_st) assert(!act[f_ch] && f_qcnt != {(QW+1){1'b0}});
+            // a poll runs from its charge to its listen's end
+            if (f_cur[PL]) assert(f_ph != `TWH_PH_IDLE && f_ph != `TWH_PH_TURNAROUND &&
+                                  !f_cur[19]);
             if (s3_v && s3_ch == f_ch && s3_res) assert(f_qcnt != {(QW+1){1'b0}});
             // a result waits only between a listen's end (or a skip) and
             // the next charge
@@ -678,7 +790,7 @@ module twh_engine #(
             if (f_pre_last && f_oph != `TWH_PH_IDLE) begin
                 assert(f_nph == f_oph + 3'd1);
                 if (f_nph == `TWH_PH_COMMAND)
-                    assert(f_ncnt == (f_pre_code[7] ? 16'd1408 : 16'd1056));
+                    assert(f_ncnt == ((f_pre_code[7] && !f_pre[PL]) ? 16'd1408 : 16'd1056));
                 else if (f_nph == `TWH_PH_IDLE)
                     assert(f_ncnt == 16'd1);
                 else

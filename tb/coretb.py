@@ -317,6 +317,14 @@ class CoreTB:
         self.channels = _param(dut, "CHANNELS", "TWH_CHANNELS", 3)
         self.fifo_depth = _param(dut, "FIFO_DEPTH", "TWH_FIFO_DEPTH", 16)
         self.clk_hz = _param(dut, "CLK_HZ", "TWH_CLK_HZ", 12_000_000)
+        # the channels' engine (twh_core's ENGINE): 1, the time-shared one,
+        # queues four commands a channel behind the command FIFO and has one
+        # result register in front of the result FIFO
+        self.engine = _param(dut, "ENGINE", "TWH_ENGINE", 0)
+        self.queue_depth = 4 if self.engine else 1
+        # results held back while the result FIFO is full: one a channel,
+        # and the engine's result register
+        self.held_results = self.channels + (1 if self.engine else 0)
         self.rm = regmap.load(channels=self.channels, fifo_depth=self.fifo_depth,
                               clk_hz=self.clk_hz)
         self.cells = tuple(cells)

@@ -13,7 +13,8 @@ module tb_core #(
     parameter integer FIFO_DEPTH = 16,
     parameter integer PROG_TIMING = 1,       // the core's feature parameters
     parameter integer POLLING    = 1,
-    parameter integer BUS        = 0         // 0 Wishbone, 1 AXI4-Lite
+    parameter integer BUS        = 0,        // 0 Wishbone, 1 AXI4-Lite
+    parameter integer ENGINE     = 0         // the core's: its channels' engine
 ) (
     input  wire        rst,
     // Wishbone B4 classic
@@ -178,7 +179,7 @@ module tb_core #(
             twh_wb_netlist
 `else
             twh_wb #(.CLK_HZ(CLK_HZ), .CHANNELS(CHANNELS), .FIFO_DEPTH(FIFO_DEPTH),
-                     .PROG_TIMING(PROG_TIMING), .POLLING(POLLING))
+                     .PROG_TIMING(PROG_TIMING), .POLLING(POLLING), .ENGINE(ENGINE))
 `endif
                 dut (
                 .clk(clk), .rst(rst),
@@ -202,7 +203,7 @@ module tb_core #(
             assign s_axil_rresp = 2'b00; assign s_axil_rvalid = 1'b0;
         end else begin : g_axil
             twh_axil #(.CLK_HZ(CLK_HZ), .CHANNELS(CHANNELS), .FIFO_DEPTH(FIFO_DEPTH),
-                     .PROG_TIMING(PROG_TIMING), .POLLING(POLLING)) dut (
+                     .PROG_TIMING(PROG_TIMING), .POLLING(POLLING), .ENGINE(ENGINE)) dut (
                 .clk(clk), .rst(rst),
                 .s_axil_awaddr(s_axil_awaddr), .s_axil_awprot(s_axil_awprot),
                 .s_axil_awvalid(s_axil_awvalid), .s_axil_awready(s_axil_awready),

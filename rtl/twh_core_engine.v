@@ -1,0 +1,140 @@
+// The core's channels on the time-shared engine (twh_core, ENGINE = 1): the
+// engine (twh_engine), one poller a channel (twh_poller), and what the
+// core's registers read of them. It takes the same signals from the core as
+// its array of twh_channel does (ENGINE = 0), but its command side is a
+// stream into per-channel queues rather than one slot a channel.
+//
+// - Commands: the core's dispatcher pushes the command FIFO's head into its
+//   channel's queue when that queue is not full (`full`), so a command
+//   waits behind another channel's only when four are queued there.
+// - Phase lengths: twh_timing fetches, for every channel, the field its next
+//   phase loads (the engine's `fld`) and clamps it; this module writes each
+//   length into the engine's timing RAM. A phase lasts at least 900 us
+//   (outside the lab unlock), and its successor's field is fetched within
+//   CHANNELS + 6 clocks of its start, long before its last period reads it.
+// - STATE: PHASE the engine's phase, BUSY a transaction under way (phases
+//   charge to turnaround), SLOT_FULL a queued command not started.
+// - STATUS.BUSY: a command queued or running, a poll running, or a result in
+//   the engine's result register.
+`default_nettype none
+`include "twh_defs.vh"
+module twh_core_engine #(
+    parameter integer CLK_HZ   = 48_000_000,
+    parameter integer CHANNELS = 1,
+    parameter integer POLLING  = 1
+) (
+    input  wire                   clk,
+    input  wire                   rst,
+    input  wire                   ms_tick,
+    input  wire                   tick,
+    input  wire                   fall,
+    input  wire                   enable,
+    input  wire [CHANNELS-1:0]    idle_charge,
+    // POLL_CTRL writes (the core's decode and verdict)
+    input  wire [31:0]            wdata,
+    input  wire                   wdata_ok,
+    input  wire [CHANNELS-1:0]    wr_poll_ctrl,
+    // phase lengths from twh_timing
+    output wire [CHANNELS*3-1:0]  nx_fld,
+    input  wire [CHANNELS-1:0]    dur_we,
+    input  wire [15:0]            dur,
+    input  wire [2:0]             dur_fld,
+    // channel registers
+    output wire [CHANNELS*32-1:0] poll_ctrl,
+    output wire [CHANNELS*32-1:0] poll_result,
+    output wire [CHANNELS*32-1:0] state,
+    output wire [CHANNELS-1:0]    poll_sample,
+    output wire [CHANNELS-1:0]    poll_error,
+    // commands from the dispatcher
+    input  wire                   cmd_valid,
+    input  wire [2:0]             cmd_ch,
+    input  wire [7:0]             cmd_code,
+    input  wire [15:0]            cmd_payload,
+    input  wire [4:0]             cmd_tag,
+    input  wire [3:0]             cmd_skip,
+    input  wire                   cancel,
+    output wire [CHANNELS-1:0]    full,
+    output wire                   cancelling,   // queued commands a flush cancels are left
+    // results for the result FIFO: {tag, channel, status, code, data}
+    output wire                   res_valid,
+    input  wire                   res_ready,
+    output wire [35:0]            res,
+    // pins
+    output wire [CHANNELS-1:0]    line_o,
+    output wire [CHANNELS-1:0]    line_oe,
+    input  wire [CHANNELS-1:0]    line_i,
+    output wire [CHANNELS-1:0]    status_busy
+);
+    localparam integer CW = (CHANNELS > 1) ? $clog2(CHANNELS) : 1;
+
+    // twh_timing's one-hot write to the engine's timing RAM address
+    reg [CW-1:0] t_ch;
+    integer i;
+    always @(*) begin
+        t_ch = {CW{1'b0}};
+        for (i = 0; i < CHANNELS; i = i + 1)
+            if (dur_we[i]) t_ch = i[CW-1:0];
+    end
+
+    wire [CHANNELS-1:0]    p_due;
+    wire [CHANNELS*16-1:0] p_cmd;
+    wire                   p_take, p_res;
+    wire [CW-1:0]          p_ch;
+    wire [15:0]            p_data;
+    wire [3:0]             p_status;
+    wire [CHANNELS-1:0]    e_busy, e_pending;
+    // verilator lint_off UNUSEDSIGNAL
+    wire [CHANNELS-1:0]    e_running;     // (STATE.BUSY is the phase's)
+    // verilator lint_on UNUSEDSIGNAL
+    wire [CHANNELS*3-1:0]  e_phase;
+    wire [CW-1:0]          r_ch;
+    wire [7:0]             r_code;
+    wire [15:0]            r_data;
+    wire [3:0]             r_status;
+    wire [4:0]             r_tag;
+    twh_engine #(.CLK_HZ(CLK_HZ), .CHANNELS(CHANNELS), .TAG_W(5), .QDEPTH(4)) u_engine (
+        .clk(clk), .rst(rst), .tick(tick), .fall(fall), .cfg_idle_charge(idle_charge),
+        .enable(enable), .cancel(cancel), .poll_req(p_due), .poll_cmd(p_cmd),
+        .t_we(|dur_we), .t_ch(t_ch), .t_fld(dur_fld), .t_len(dur),
+        .s_cmd_valid(cmd_valid), .s_cmd_ready(cmd_ready), .s_cmd_ch(cmd_ch[CW-1:0]),
+        .s_cmd_code(cmd_code), .s_cmd_payload(cmd_payload), .s_cmd_tag(cmd_tag),
+        .s_cmd_skip(cmd_skip),
+        .m_res_valid(res_valid), .m_res_ready(res_ready), .m_res_ch(r_ch),
+        .m_res_code(r_code), .m_res_data(r_data), .m_res_status(r_status), .m_res_tag(r_tag),
+        .line_o(line_o), .line_oe(line_oe), .line_i(line_i),
+        .busy(e_busy), .pending(e_pending), .running(e_running), .full(full), .cancelling(cancelling),
+        .phase(e_phase), .fld(nx_fld),
+        .p_take(p_take), .p_res(p_res), .p_ch(p_ch), .p_data(p_data), .p_status(p_status)
+    );
+    // verilator lint_off UNUSEDSIGNAL
+    wire [3:0] r_ch4 = {{(4-CW){1'b0}}, r_ch};    // (CW is 1-3)
+    // verilator lint_on UNUSEDSIGNAL
+    assign res = {r_tag, r_ch4[2:0], r_status, r_code, r_data};
+
+    // (the dispatcher names an existing channel, the push checked it, and
+    // pushes only into a queue that is not full: `full`)
+    // verilator lint_off UNUSEDSIGNAL
+    wire       cmd_ready;
+    wire [2:0] unused_ch = cmd_ch;
+    // verilator lint_on UNUSEDSIGNAL
+
+    genvar n;
+    generate
+        for (n = 0; n < CHANNELS; n = n + 1) begin : g_ch
+            twh_poller #(.POLLING(POLLING)) u_poll (
+                .clk(clk), .rst(rst), .ms_tick(ms_tick),
+                .wdata(wdata), .wdata_ok(wdata_ok), .wr_poll_ctrl(wr_poll_ctrl[n]),
+                .take(p_take && p_ch == n), .res(p_res && p_ch == n),
+                .res_data(p_data), .res_status(p_status),
+                .due(p_due[n]), .cmd(p_cmd[n*16 +: 16]),
+                .poll_ctrl(poll_ctrl[n*32 +: 32]), .poll_result(poll_result[n*32 +: 32]),
+                .sample(poll_sample[n]), .error(poll_error[n])
+            );
+            wire [2:0] ph = e_phase[n*3 +: 3];
+            wire on_line = (ph != `TWH_PH_IDLE);
+            assign state[n*32 +: 32] = {27'd0, e_pending[n], on_line, ph};
+            assign status_busy[n] = e_busy[n] || on_line || (res_valid && r_ch == n);
+        end
+    endgenerate
+endmodule
+`default_nettype wire
