@@ -1,7 +1,9 @@
-// Bus-agnostic core: CHANNELS twh_channel engines running concurrently, a
-// shared command FIFO and result FIFO, and the registers of
-// rdl/twh_regs.rdl behind a simple pipelined register port that the
-// Wishbone (twh_wb) and AXI4-Lite (twh_axil) wrappers drive.
+// Bus-agnostic core: CHANNELS channels running concurrently, a shared
+// command FIFO and result FIFO, and the registers of rdl/twh_regs.rdl behind
+// a simple pipelined register port that the Wishbone (twh_wb) and AXI4-Lite
+// (twh_axil) wrappers drive. The channels are the time-shared engine
+// (ENGINE = 1, twh_core_engine: every channel's state in RAM, docs/engine.md)
+// or, while issue 34 keeps the switch, one twh_channel each (ENGINE = 0).
 //
 // Register port: a request (reg_req, with reg_we, reg_addr, reg_wdata,
 // reg_wstrb) is taken into a register stage, carried out on the next clock
@@ -16,13 +18,15 @@
 // Errors: unmapped address, a write with byte enables other than all four,
 // a push into the full command FIFO, a push for an absent channel.
 //
-// Dispatch: the command FIFO's head moves into its channel's one-entry slot
-// when that slot is free. A head waiting for a busy channel therefore holds
-// back the commands behind it (head-of-line blocking): queue commands for
-// several channels in round-robin order to keep them all busy.
-// Results: one channel at a time is offered the result FIFO in turn (a scan,
-// not a priority), so every channel gets its turn; a full FIFO holds the
-// engines back and no result is ever dropped.
+// Dispatch: the command FIFO's head moves on into its channel when the
+// channel can take it: its queue of four is not full (ENGINE = 1), its
+// one-entry slot is free (ENGINE = 0). A head waiting for a channel that
+// cannot take it holds back the commands behind it; with the queues that
+// happens only beyond four commands for one channel.
+// Results: the engine's result register (ENGINE = 1), or one channel at a
+// time offered the result FIFO in turn (ENGINE = 0, a scan, not a
+// priority), so every channel gets its turn; a full FIFO holds the channels
+// back and no result is ever dropped.
 `default_nettype none
 `include "twh_defs.vh"
 module twh_core #(
@@ -38,7 +42,7 @@ module twh_core #(
     // second for good): 0, one twh_channel (twh_link) a channel in
     // flip-flops; 1, the time-shared twh_engine, every channel's state in
     // RAM, a queue of four commands a channel behind the command FIFO.
-    parameter integer ENGINE      = 0
+    parameter integer ENGINE      = 1
 ) (
     input  wire                clk,
     input  wire                rst,
@@ -84,6 +88,13 @@ module twh_core #(
     // memory or index out of range) before it reports the missing module.
     localparam integer CH_N    = CHANNELS_OK ? CHANNELS : 1;
     localparam integer DEPTH_N = FIFO_DEPTH_OK ? FIFO_DEPTH : 16;
+    // A CLK_HZ outside twh_carrier's range is its error alone: the engine is
+    // built with a stand-in then, so that its clock floor names no second
+    // one (tb/test_params.py checks these are twh_carrier's CLK_HZ_MIN/MAX).
+    localparam integer CARRIER_CLK_MIN = 4_000_000;
+    localparam integer CARRIER_CLK_MAX = 200_000_000;
+    localparam integer CLK_E = (CLK_HZ >= CARRIER_CLK_MIN && CLK_HZ <= CARRIER_CLK_MAX) ?
+                               CLK_HZ : 48_000_000;
 
     localparam integer LW = $clog2(DEPTH_N + 1);
     localparam [3:0]  CH_COUNT = CHANNELS[3:0];
@@ -466,7 +477,7 @@ module twh_core #(
     genvar n;
     generate
         if (ENGINE != 0) begin : g_engine
-            twh_core_engine #(.CLK_HZ(CLK_HZ), .CHANNELS(CH_N), .POLLING(POLLING)) u_engine (
+            twh_core_engine #(.CLK_HZ(CLK_E), .CHANNELS(CH_N), .POLLING(POLLING)) u_engine (
                 .clk(clk), .rst(rst), .ms_tick(ms_tick), .tick(us_tick), .fall(us_fall),
                 .enable(enable), .idle_charge(idle_charge[CH_N-1:0]),
                 .wdata(q_wdata), .wdata_ok(q_win_p), .wr_poll_ctrl(q_ch & {CH_N{q_wp}}),
@@ -830,7 +841,9 @@ module twh_core #(
                     R_VERSION:    f_rdata = {factory_armed, lab, 10'd0, CH_COUNT, 8'd1, 8'd0};
                     R_PARAMS:     f_rdata = {CLK_KHZ, DEPTH12};
                     R_CTRL:       f_rdata = {16'd0, idle_charge, 7'd0, enable};
-                    R_STATUS:     f_rdata = {19'd0, flushing, res_vacant, res_full, cmd_vacant,
+                    // FLUSHING: cancels left in the command FIFO or, with the
+                    // time-shared engine, in the channels' queues
+                    R_STATUS:     f_rdata = {19'd0, flushing || e_cancelling, res_vacant, res_full, cmd_vacant,
                                              cmd_full, busy8};
                     R_LEVELS:     f_rdata = {res_level16, cmd_level16};
                     R_ERRORS:     f_rdata = {27'd0, errors};

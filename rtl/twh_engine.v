@@ -262,6 +262,8 @@ module twh_engine #(
     reg [W-1:0]  s2_w;
     reg [QE-1:0] s2_q;
     reg [15:0]   s2_len;
+    reg          s2_pr, s2_pf, s2_cc;
+    reg [15:0]   s2_pc;
     always @(posedge clk) begin
         s2_v    <= !rst && s1_v;
         s2_ch   <= s1_ch;
@@ -273,6 +275,15 @@ module twh_engine #(
         s2_last <= s1_init ? (st_rd[18:4] == 15'd0) : 1'b0;
         s2_q    <= q_rd;
         s2_len  <= t_rd;
+        // what the step chooses from, taken a clock ahead (off the step's
+        // path): the poll's request and command together, so a poll-control
+        // write in between starts at most the poll that was due, with the
+        // command it was checked with; a flush's count, and a flush in this
+        // very clock (its count, written now, covers this head: act is 0)
+        s2_pr   <= !rst && poll_req[s1_ch];
+        s2_pc   <= poll_cmd[s1_ch*16 +: 16];
+        s2_pf   <= pref[s1_ch];
+        s2_cc   <= (ccnt[s1_ch*(QW+1) +: QW+1] != {(QW+1){1'b0}}) || cancel;
     end
 
     // ------------------------------------------------------------ S2: the step
@@ -360,17 +371,15 @@ module twh_engine #(
     reg  s3_res;
     wire res_free = !m_res_valid && !(s3_v && s3_res);
 
-    // What an idle channel may start (read live at S2: a flush or a poll
-    // write between S0 and S2 counts). The head's skip is CANCELLED while a
-    // flush's count is left; a queued command goes unless the engine is off
-    // and it would reach the line; a due poll goes on its turn or when no
-    // command can.
-    wire [QW:0]  s2_cc   = ccnt[s2_ch*(QW+1) +: QW+1];
-    wire [3:0]   h_skip  = (s2_cc != {(QW+1){1'b0}}) ? `TWH_ST_CANCELLED : q_skip;
+    // What an idle channel may start (taken at S1, above). The head's skip
+    // is CANCELLED while a flush's count is left; a queued command goes
+    // unless the engine is off and it would reach the line; a due poll goes
+    // on its turn or when no command can.
+    wire [3:0]   h_skip  = s2_cc ? `TWH_ST_CANCELLED : q_skip;
     wire         cmd_go  = s2_ne && (enable || h_skip != 4'd0);
-    wire         poll_go = enable && poll_req[s2_ch];
-    wire         use_poll = poll_go && (pref[s2_ch] || !cmd_go);
-    wire [15:0]  p_cmd   = poll_cmd[s2_ch*16 +: 16];
+    wire         poll_go = enable && s2_pr;
+    wire         use_poll = poll_go && (s2_pf || !cmd_go);
+    wire [15:0]  p_cmd   = s2_pc;
     wire [7:0]   p_chk;
     twh_checksum u_pchk (.a(p_cmd[7:0]), .b(8'd0), .c(p_cmd[15:8]), .chk(p_chk));
     wire         idle_go = (ph == `TWH_PH_IDLE) && last && !rwait;

@@ -14,7 +14,7 @@ module twh_wb #(
     parameter integer FIFO_DEPTH = 16,
     parameter integer PROG_TIMING = 1,   // twh_core: features a fixed board may leave out
     parameter integer POLLING     = 1,
-    parameter integer ENGINE      = 0    // twh_core: the channels' engine
+    parameter integer ENGINE      = 1    // twh_core: the channels' engine
 ) (
     input  wire                clk,
     input  wire                rst,

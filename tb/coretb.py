@@ -320,7 +320,7 @@ class CoreTB:
         # the channels' engine (twh_core's ENGINE): 1, the time-shared one,
         # queues four commands a channel behind the command FIFO and has one
         # result register in front of the result FIFO
-        self.engine = _param(dut, "ENGINE", "TWH_ENGINE", 0)
+        self.engine = _param(dut, "ENGINE", "TWH_ENGINE", 1)
         self.queue_depth = 4 if self.engine else 1
         # results held back while the result FIFO is full: one a channel,
         # and the engine's result register

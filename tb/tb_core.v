@@ -14,7 +14,7 @@ module tb_core #(
     parameter integer PROG_TIMING = 1,       // the core's feature parameters
     parameter integer POLLING    = 1,
     parameter integer BUS        = 0,        // 0 Wishbone, 1 AXI4-Lite
-    parameter integer ENGINE     = 0         // the core's: its channels' engine
+    parameter integer ENGINE     = 1         // the core's: its channels' engine
 ) (
     input  wire        rst,
     // Wishbone B4 classic

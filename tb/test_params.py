@@ -62,6 +62,9 @@ def _localparam(path, name):
 CH_MIN, CH_MAX = _localparam(CORE_V, "CHANNELS_MIN"), _localparam(CORE_V, "CHANNELS_MAX")
 FD_MIN, FD_MAX = _localparam(CORE_V, "FIFO_DEPTH_MIN"), _localparam(CORE_V, "FIFO_DEPTH_MAX")
 CLK_MIN, CLK_MAX = _localparam(CARRIER_V, "CLK_HZ_MIN"), _localparam(CARRIER_V, "CLK_HZ_MAX")
+# twh_core's copy of them (it builds the engine with a stand-in outside them)
+assert (_localparam(CORE_V, "CARRIER_CLK_MIN"), _localparam(CORE_V, "CARRIER_CLK_MAX")) == \
+    (CLK_MIN, CLK_MAX), "rtl/twh_core.v's CARRIER_CLK_MIN/MAX are not twh_carrier's range"
 ECH_MIN, ECH_MAX = _localparam(ENGINE_V, "CHANNELS_MIN"), _localparam(ENGINE_V, "CHANNELS_MAX")
 
 # the error module each parameter's check instantiates, named for its range

@@ -1110,7 +1110,7 @@ def run_core(testcase, bus, clk_hz=12_000_000, channels=3, fifo_depth=16, env=No
     name = name or core_name(testcase, bus, channels)
     extra = {"TWH_BUS": str(bus), "TWH_CHANNELS": str(channels),
              "TWH_FIFO_DEPTH": str(fifo_depth), "TWH_CLK_HZ": str(clk_hz),
-             "TWH_ENGINE": str((features or {}).get("ENGINE", 0))}
+             "TWH_ENGINE": str((features or {}).get("ENGINE", 1))}
     extra.update(env or {})
     simrun.run("tb_core", "test_twh_core", name,
                parameters={"CLK_HZ": clk_hz, "CHANNELS": channels,
@@ -1140,7 +1140,7 @@ CASES = [
     ("reset_mid_traffic", 0, 4_000_000, 3, 16),
     ("reset_mid_traffic", 1, 4_000_000, 3, 16),
     ("lean_build", 1, 4_000_000, 3, 16),      # with LEAN's parameters
-    ("six_channels", 0, 4_000_000, 6, 16),
+    ("six_channels", 0, 6_000_000, 6, 16),   # the engine's floor for six channels
 ]
 # the feature parameters of a fixed-timing board without polling
 LEAN = {"PROG_TIMING": 0, "POLLING": 0}
@@ -1187,3 +1187,14 @@ def test_core_both(testcase, bus, clk_hz, channels, fifo_depth):
     simrun.same_on_both(lambda sim, name, seed_name: _case(*c, sim=sim, name=name,
                                                            seed_name=seed_name),
                         core_name(testcase, bus, channels))
+
+
+# ENGINE = 0, the per-channel twh_channel array the time-shared engine
+# replaces: its own regression while the switch exists (make test-slow), the
+# shared configuration's cases on Verilator.
+@pytest.mark.slow
+@pytest.mark.parametrize("testcase,bus,clk_hz,channels,fifo_depth", BOTH, ids=[_id(c) for c in BOTH])
+def test_core_engine0(testcase, bus, clk_hz, channels, fifo_depth):
+    run_core(testcase, bus, clk_hz=clk_hz, channels=channels, fifo_depth=fifo_depth,
+             features={"ENGINE": 0}, sim="verilator",
+             name=core_name(testcase, bus, channels) + "_engine0")
