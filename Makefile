@@ -56,9 +56,9 @@ lint: deps
 	        -GPROG_TIMING=0 -GPOLLING=0; \
 	done; done
 	@set -e; for top in twh_wb twh_axil; do for ch in 1 3 8; do \
-	    echo "verilator -Wall $$top CHANNELS=$$ch ENGINE=1"; \
-	    verilator --lint-only -Wall -Irtl $(RTL) --top-module $$top -GCHANNELS=$$ch -GENGINE=1; \
-	    verilator --lint-only -Wall -Irtl $(RTL) --top-module $$top -GCHANNELS=$$ch -GENGINE=1 \
+	    echo "verilator -Wall $$top CHANNELS=$$ch ENGINE=0 (and lean)"; \
+	    verilator --lint-only -Wall -Irtl $(RTL) --top-module $$top -GCHANNELS=$$ch -GENGINE=0; \
+	    verilator --lint-only -Wall -Irtl $(RTL) --top-module $$top -GCHANNELS=$$ch -GENGINE=0 \
 	        -GPROG_TIMING=0 -GPOLLING=0; \
 	done; done
 	@set -e; for cfg in 4000000:1 4000000:3 10500000:5 12000000:8 16000000:16 32000000:32 48000000:32; do \
@@ -72,9 +72,9 @@ lint: deps
 	    yosys -q -l build/lint/yosys_$$top.log -p "read_verilog -Irtl $(RTL); synth_ice40 -top $$top; check -assert" >/dev/null; \
 	    ! grep -E "^Warning" build/lint/yosys_$$top.log || (echo "yosys warnings above" && false); \
 	done
-	@echo "yosys: synth_ice40 twh_wb ENGINE=1"
-	@yosys -q -l build/lint/yosys_twh_wb_engine.log -p "read_verilog -Irtl $(RTL); chparam -set ENGINE 1 -set CHANNELS 3 twh_wb; synth_ice40 -top twh_wb; check -assert" >/dev/null
-	@! grep -E "^Warning" build/lint/yosys_twh_wb_engine.log || (echo "yosys warnings above" && false)
+	@echo "yosys: synth_ice40 twh_wb ENGINE=0"
+	@yosys -q -l build/lint/yosys_twh_wb_engine0.log -p "read_verilog -Irtl $(RTL); chparam -set ENGINE 0 -set CHANNELS 3 twh_wb; synth_ice40 -top twh_wb; check -assert" >/dev/null
+	@! grep -E "^Warning" build/lint/yosys_twh_wb_engine0.log || (echo "yosys warnings above" && false)
 	@echo "lint clean"
 
 # --maxschedchunk=1: a core that is free takes the next test (the long ones

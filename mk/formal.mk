@@ -23,7 +23,8 @@ FORMAL_JOBS ?= \
     twh_timing:ch1 twh_timing:ch3 twh_timing:ch6 twh_timing:fixed3 \
     twh_channel:prove twh_channel:cover \
     twh_core:port twh_core:ch1 twh_core:ch2 twh_core:cover_ch2 \
-    twh_engine:ch1 twh_engine:ch2 twh_engine:ch3
+    twh_engine:ch1 twh_engine:ch2 twh_engine:ch3 \
+    twh_polls:ch2 twh_polls:ch3 twh_polls:cover3
 
 .PHONY: formal
 formal: deps
@@ -36,6 +37,6 @@ formal: deps
 formal-mutants: deps
 	@mkdir -p build/formal && cat formal/mutants.tsv formal/twh_link_mutants.tsv \
 	    formal/twh_channel_mutants.tsv formal/twh_core_mutants.tsv formal/twh_timing_mutants.tsv \
-	    formal/twh_engine_mutants.tsv \
+	    formal/twh_engine_mutants.tsv formal/twh_polls_mutants.tsv \
 	    > build/formal/all_mutants.tsv
 	@JOBS=$(JOBS) bash formal/mutate.sh build/formal/all_mutants.tsv

@@ -18,8 +18,12 @@
 // Only a narrow down-counter runs every cycle; the accumulator advances once
 // per period and vanishes when CLK_HZ is a whole number of MHz.
 `default_nettype none
+`include "twh_defs.vh"
 module twh_carrier #(
-    parameter integer CLK_HZ = 48_000_000
+    parameter integer CLK_HZ = 48_000_000,
+    // the core's time-shared engine's channels (0: none): the engine's
+    // clock floor is checked here, after this module's own checks
+    parameter integer FLOOR_CHANNELS = 0
 ) (
     input  wire clk,
     input  wire rst,
@@ -61,6 +65,9 @@ module twh_carrier #(
         end
         else if (100 * H > 60 * P || 100 * H < 45 * (P + (FRAC != 0 ? 1 : 0))) begin : g_bad_duty
             twh_error_CLK_HZ_gives_carrier_duty_out_of_spec u_err ();
+        end
+        else if (FLOOR_CHANNELS != 0 && !`TWH_ENGINE_FLOOR_OK(P, FRAC, FLOOR_CHANNELS)) begin : g_bad_floor
+            twh_error_CLK_HZ_below_the_engine_floor_for_CHANNELS u_err ();
         end
     endgenerate
 

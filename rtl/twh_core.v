@@ -72,9 +72,11 @@ module twh_core #(
     localparam integer CHANNELS_MAX   = 8;
     localparam integer FIFO_DEPTH_MIN = 2;      // and a power of two
     localparam integer FIFO_DEPTH_MAX = 2048;
+    localparam integer ENGINE_MAX     = 1;      // ENGINE: 0 or 1
     localparam CHANNELS_OK   = CHANNELS >= CHANNELS_MIN && CHANNELS <= CHANNELS_MAX;
     localparam FIFO_DEPTH_OK = FIFO_DEPTH >= FIFO_DEPTH_MIN && FIFO_DEPTH <= FIFO_DEPTH_MAX &&
                                (FIFO_DEPTH & (FIFO_DEPTH - 1)) == 0;
+    localparam ENGINE_OK     = ENGINE >= 0 && ENGINE <= ENGINE_MAX;
     generate
         if (!CHANNELS_OK) begin : g_bad_channels
             twh_error_CHANNELS_must_be_1_to_8 u_err ();
@@ -82,19 +84,16 @@ module twh_core #(
         if (!FIFO_DEPTH_OK) begin : g_bad_depth
             twh_error_FIFO_DEPTH_must_be_a_power_of_two_2_to_2048 u_err ();
         end
+        if (!ENGINE_OK) begin : g_bad_engine
+            twh_error_ENGINE_must_be_0_or_1 u_err ();
+        end
     endgenerate
     // What the submodules are built with: the parameter, or after a failed
     // check a legal stand-in, so that no tool breaks on the bad value (a
     // memory or index out of range) before it reports the missing module.
     localparam integer CH_N    = CHANNELS_OK ? CHANNELS : 1;
     localparam integer DEPTH_N = FIFO_DEPTH_OK ? FIFO_DEPTH : 16;
-    // A CLK_HZ outside twh_carrier's range is its error alone: the engine is
-    // built with a stand-in then, so that its clock floor names no second
-    // one (tb/test_params.py checks these are twh_carrier's CLK_HZ_MIN/MAX).
-    localparam integer CARRIER_CLK_MIN = 4_000_000;
-    localparam integer CARRIER_CLK_MAX = 200_000_000;
-    localparam integer CLK_E = (CLK_HZ >= CARRIER_CLK_MIN && CLK_HZ <= CARRIER_CLK_MAX) ?
-                               CLK_HZ : 48_000_000;
+    localparam integer ENGINE_N = ENGINE_OK ? ENGINE : 1;
 
     localparam integer LW = $clog2(DEPTH_N + 1);
     localparam [3:0]  CH_COUNT = CHANNELS[3:0];
@@ -109,7 +108,9 @@ module twh_core #(
     // carrier period and counts microseconds for the poll timers; every
     // channel's engine steps on it, so all lines' carriers run in step.
     wire us_tick, us_tick_nx, us_fall;
-    twh_carrier #(.CLK_HZ(CLK_HZ)) u_tick (
+    // (the engine's clock floor is checked here too, after the carrier's own
+    // checks, so that a bad clock names one error)
+    twh_carrier #(.CLK_HZ(CLK_HZ), .FLOOR_CHANNELS(ENGINE_N != 0 ? CH_N : 0)) u_tick (
         .clk(clk), .rst(rst), .tick(us_tick), .tick_nx(us_tick_nx), .fall(us_fall)
     );
     reg [9:0] us_count;
@@ -195,6 +196,9 @@ module twh_core #(
     // register bit; TIMING0-2 of every channel come from twh_timing (q_r_t)
     reg [CHANNELS*3-1:0] q_r_cr;
     reg        q_r_t;
+    // ENGINE = 1: POLL_CTRL / POLL_RESULT of an existing channel read, from
+    // twh_polls' memories (ENGINE = 0 reads them through q_r_cr)
+    reg        q_r_pc, q_r_pr;
     reg        q_cmp_nz;         // ... not all zero: a field lies outside its window
     reg        q_win_p;          // i_win_p of the request
     // The REFUSED verdict's parts, taken on the way in so that the error
@@ -241,7 +245,7 @@ module twh_core #(
     always @(posedge clk) if (i_load) begin
         if (rst || !reg_req) begin
             q_req <= 1'b0; q_wr <= 1'b0; q_rd <= 1'b0;
-            q_wr_t <= 1'b0; q_r_t <= 1'b0; q_ref_p <= 1'b0;
+            q_wr_t <= 1'b0; q_r_t <= 1'b0; q_ref_p <= 1'b0; q_r_pc <= 1'b0; q_r_pr <= 1'b0;
             q_ch <= {CHANNELS{1'b0}}; q_r_cr <= {(CHANNELS*3){1'b0}};
             q_r_id <= 1'b0; q_r_version <= 1'b0; q_r_params <= 1'b0; q_r_ctrl <= 1'b0;
             q_r_status <= 1'b0; q_r_levels <= 1'b0; q_r_errors <= 1'b0; q_r_irq_en <= 1'b0;
@@ -256,14 +260,16 @@ module twh_core #(
             q_rd       <= i_rd;
             q_wr_t     <= i_wr && i_ch_ok && reg_addr[4:2] <= 3'd2;
             q_r_t      <= i_rd && i_ch_ok && reg_addr[4:2] <= 3'd2;
+            q_r_pc     <= i_rd && i_ch_ok && reg_addr[4:2] == 3'd3 && ENGINE_N != 0;
+            q_r_pr     <= i_rd && i_ch_ok && reg_addr[4:2] == 3'd4 && ENGINE_N != 0;
             q_ref_p    <= i_wr && i_ch_ok && reg_addr[4:2] == 3'd3 && !i_win_p;
             for (i_n = 0; i_n < CHANNELS; i_n = i_n + 1) begin
                 q_ch[i_n] <= i_wr && (i_blk[2:0] == i_n[2:0]);
                 // (an AND per select, no choice with a 0 arm: Yosys would
                 // have folded that into the reset, behind the port's strobe)
-                q_r_cr[i_n*3 + 0] <= i_rd && i_ch_ok && i_blk[2:0] == i_n[2:0] &&
+                q_r_cr[i_n*3 + 0] <= i_rd && i_ch_ok && i_blk[2:0] == i_n[2:0] && ENGINE_N == 0 &&
                                      reg_addr[4:2] == 3'd3;
-                q_r_cr[i_n*3 + 1] <= i_rd && i_ch_ok && i_blk[2:0] == i_n[2:0] &&
+                q_r_cr[i_n*3 + 1] <= i_rd && i_ch_ok && i_blk[2:0] == i_n[2:0] && ENGINE_N == 0 &&
                                      reg_addr[4:2] == 3'd4;
                 q_r_cr[i_n*3 + 2] <= i_rd && i_ch_ok && i_blk[2:0] == i_n[2:0] &&
                                      reg_addr[4:2] == 3'd5;
@@ -418,14 +424,15 @@ module twh_core #(
     wire        e_res_valid;
     wire [35:0] e_res;
     wire        e_cancelling;     // ENGINE 1: a flush's cancels are left in the queues
-    wire res_push = (ENGINE != 0 ? e_res_valid : scan_v) && !res_full;
-    wire [3:0] push_status = ENGINE != 0 ? e_res[27:24] : c_res_status[scan*4 +: 4];
+    wire [31:0] p_rdata;          // ENGINE 1: the answer of a POLL_CTRL / POLL_RESULT read
+    wire res_push = (ENGINE_N != 0 ? e_res_valid : scan_v) && !res_full;
+    wire [3:0] push_status = ENGINE_N != 0 ? e_res[27:24] : c_res_status[scan*4 +: 4];
     wire pop_req = q_pop;
 
     twh_fifo #(.W(36), .DEPTH(DEPTH_N)) u_res_fifo (
         .clk(clk), .rst(rst),
         .push(res_push),
-        .din(ENGINE != 0 ? e_res :
+        .din(ENGINE_N != 0 ? e_res :
              {c_res_tag[scan*5 +: 5], scan, push_status,
               c_res_cmd[scan*8 +: 8], c_res_data[scan*16 +: 16]}),
         .full(res_full),
@@ -476,14 +483,14 @@ module twh_core #(
 
     genvar n;
     generate
-        if (ENGINE != 0) begin : g_engine
-            twh_core_engine #(.CLK_HZ(CLK_E), .CHANNELS(CH_N), .POLLING(POLLING)) u_engine (
+        if (ENGINE_N != 0) begin : g_engine
+            twh_core_engine #(.CLK_HZ(CLK_HZ), .CHANNELS(CH_N), .POLLING(POLLING)) u_engine (
                 .clk(clk), .rst(rst), .ms_tick(ms_tick), .tick(us_tick), .fall(us_fall),
                 .enable(enable), .idle_charge(idle_charge[CH_N-1:0]),
-                .wdata(q_wdata), .wdata_ok(q_win_p), .wr_poll_ctrl(q_ch & {CH_N{q_wp}}),
+                .wdata(q_wdata), .pc_wr(q_wp && wr && q_win_p), .rd_ctrl(q_r_pc),
+                .rd_res(q_r_pr), .reg_ch(q_blk), .rd_data(p_rdata),
                 .nx_fld(c_nx_fld), .dur_we(t_dur_we), .dur(t_dur), .dur_fld(t_dur_fld),
-                .poll_ctrl(c_pc), .poll_result(c_pr), .state(c_st),
-                .poll_sample(c_sample), .poll_error(c_poll_err),
+                .state(c_st), .poll_sample(c_sample), .poll_error(c_poll_err[0]),
                 .cmd_valid(dispatch), .cmd_ch(disp_ch), .cmd_code(h_cmd),
                 .cmd_payload(h_payload), .cmd_tag(h_tag), .cmd_skip(h_skip),
                 .cancel(flush_wr), .full(slot_full), .cancelling(e_cancelling),
@@ -497,14 +504,26 @@ module twh_core #(
             assign c_res_status = {(CHANNELS*4){1'b0}};
             assign c_res_tag = {(CHANNELS*5){1'b0}};
             assign c_busy = c_sbusy;
-            // (the engine steps on the tick itself)
+            assign c_pc = {(CHANNELS*32){1'b0}};      // (read from twh_polls: p_rdata)
+            assign c_pr = {(CHANNELS*32){1'b0}};
+            if (CHANNELS > 1) begin : g_err
+                assign c_poll_err[CHANNELS-1:1] = {(CHANNELS-1){1'b0}};
+            end
+            // (the engine steps on the tick itself; the POLL_CTRL write
+            // names its channel by number, not one-hot)
             // verilator lint_off UNUSEDSIGNAL
             wire unused_tick_nx = us_tick_nx;
+            wire unused_q_ch = |q_ch;
             // verilator lint_on UNUSEDSIGNAL
         end else begin : g_channels
             assign e_res_valid = 1'b0;
             assign e_res = 36'd0;
             assign e_cancelling = 1'b0;
+            assign p_rdata = 32'd0;
+            // (the channels' own registers answer POLL_CTRL / POLL_RESULT)
+            // verilator lint_off UNUSEDSIGNAL
+            wire unused_r_p = q_r_pc | q_r_pr;
+            // verilator lint_on UNUSEDSIGNAL
         for (n = 0; n < CHANNELS; n = n + 1) begin : g_ch
             wire sel = q_ch[n];
             twh_channel #(.CLK_HZ(CLK_HZ), .POLLING(POLLING)) u_ch (
@@ -713,7 +732,7 @@ module twh_core #(
             end
         end
     end
-    assign reg_rdata = rdata_q | rdata_c_q | ({32{t_rd_q}} & t_rdata);
+    assign reg_rdata = rdata_q | rdata_c_q | ({32{t_rd_q}} & t_rdata) | p_rdata;
 
 `ifdef FORMAL
     // ================================================================ formal
@@ -747,7 +766,7 @@ module twh_core #(
     // request in the stage every strobe and select is 0, and with no
     // answer the read word is 0.
     always @(*) if (f_rs && !q_req) begin
-        assert({q_wr, q_rd, q_wr_t, q_r_t, q_ref_p, q_ch, q_r_cr} == 0);
+        assert({q_wr, q_rd, q_wr_t, q_r_t, q_ref_p, q_ch, q_r_cr, q_r_pc, q_r_pr} == 0);
         assert({q_r_id, q_r_version, q_r_params, q_r_ctrl, q_r_status, q_r_levels,
                 q_r_errors, q_r_irq_en, q_r_irq_status, q_r_poll_ready, q_r_res_info,
                 q_r_res_pop} == 0);
@@ -831,8 +850,10 @@ module twh_core #(
                     3'd0,
                     3'd1,
                     3'd2:    f_rdata = 32'd0;
-                    3'd3:    f_rdata = c_pc[ch_sel*32 +: 32];
-                    3'd4:    f_rdata = c_pr[ch_sel*32 +: 32];
+                    // POLL_CTRL, POLL_RESULT: the channel's registers
+                    // (ENGINE = 1: twh_polls' word, ORed in a clock later)
+                    3'd3:    f_rdata = ENGINE_N != 0 ? 32'd0 : c_pc[ch_sel*32 +: 32];
+                    3'd4:    f_rdata = ENGINE_N != 0 ? 32'd0 : c_pr[ch_sel*32 +: 32];
                     default: f_rdata = c_st[ch_sel*32 +: 32];
                 endcase
             end else begin
@@ -866,9 +887,18 @@ module twh_core #(
     end
     // a TIMING0-2 read answers twh_timing's word for its address (its own
     // proof: the register's value as of the read)
-    reg f_trd_q;
-    always @(posedge clk) f_trd_q <= rd && mapped && is_ch && ch_reg <= 3'd2;
-    always @(*) if (f_chk_rd) assert(reg_rdata == (f_rdata_q | ({32{f_trd_q}} & t_rdata)));
+    reg f_trd_q, f_prd_q;
+    always @(posedge clk) begin
+        f_trd_q <= rd && mapped && is_ch && ch_reg <= 3'd2;
+        f_prd_q <= rd && mapped && is_ch && (ch_reg == 3'd3 || ch_reg == 3'd4) && ENGINE_N != 0;
+    end
+    always @(*) if (f_chk_rd) assert(reg_rdata == (f_rdata_q | ({32{f_trd_q}} & t_rdata) |
+                                                   ({32{f_prd_q}} & p_rdata)));
+    // twh_polls is handed the request's channel and register
+    always @(*) if (f_rs && f_h && ENGINE_N != 0)
+        assert(q_r_pc == (rd && ch_exists && ch_reg == 3'd3) &&
+               q_r_pr == (rd && ch_exists && ch_reg == 3'd4) &&
+               (!(q_r_pc || q_r_pr) || q_blk == ch_sel));
     // twh_timing is handed the word the request names, for a read or a write
     always @(*) if (f_rs && f_h && ch_exists && ch_reg <= 3'd2)
         assert(q_blk == ch_sel && q_treg == ch_reg[1:0]);

@@ -1,6 +1,6 @@
 // The core's channels on the time-shared engine (twh_core, ENGINE = 1): the
-// engine (twh_engine), one poller a channel (twh_poller), and what the
-// core's registers read of them. It takes the same signals from the core as
+// engine (twh_engine), every channel's poller with its registers in RAM
+// (twh_polls), and what the core's registers read of them. It takes the same signals from the core as
 // its array of twh_channel does (ENGINE = 0), but its command side is a
 // stream into per-channel queues rather than one slot a channel.
 //
@@ -30,21 +30,23 @@ module twh_core_engine #(
     input  wire                   fall,
     input  wire                   enable,
     input  wire [CHANNELS-1:0]    idle_charge,
-    // POLL_CTRL writes (the core's decode and verdict)
+    // POLL_CTRL and POLL_RESULT: an accepted write, a read (the request
+    // stage's), the read's word a clock later
     input  wire [31:0]            wdata,
-    input  wire                   wdata_ok,
-    input  wire [CHANNELS-1:0]    wr_poll_ctrl,
+    input  wire                   pc_wr,
+    input  wire                   rd_ctrl,
+    input  wire                   rd_res,
+    input  wire [2:0]             reg_ch,
+    output wire [31:0]            rd_data,
     // phase lengths from twh_timing
     output wire [CHANNELS*3-1:0]  nx_fld,
     input  wire [CHANNELS-1:0]    dur_we,
     input  wire [15:0]            dur,
     input  wire [2:0]             dur_fld,
     // channel registers
-    output wire [CHANNELS*32-1:0] poll_ctrl,
-    output wire [CHANNELS*32-1:0] poll_result,
     output wire [CHANNELS*32-1:0] state,
     output wire [CHANNELS-1:0]    poll_sample,
-    output wire [CHANNELS-1:0]    poll_error,
+    output wire                   poll_error,
     // commands from the dispatcher
     input  wire                   cmd_valid,
     input  wire [2:0]             cmd_ch,
@@ -77,11 +79,13 @@ module twh_core_engine #(
     end
 
     wire [CHANNELS-1:0]    p_due;
-    wire [CHANNELS*16-1:0] p_cmd;
+    wire [15:0]            p_cmd;
+    wire [CW-1:0]          scan_ch;
     wire                   p_take, p_res;
     wire [CW-1:0]          p_ch;
     wire [15:0]            p_data;
     wire [3:0]             p_status;
+    wire [11:0]            p_count;
     wire [CHANNELS-1:0]    e_busy, e_pending;
     // verilator lint_off UNUSEDSIGNAL
     wire [CHANNELS-1:0]    e_running;     // (STATE.BUSY is the phase's)
@@ -92,9 +96,11 @@ module twh_core_engine #(
     wire [15:0]            r_data;
     wire [3:0]             r_status;
     wire [4:0]             r_tag;
-    twh_engine #(.CLK_HZ(CLK_HZ), .CHANNELS(CHANNELS), .TAG_W(5), .QDEPTH(4)) u_engine (
+    // (its clock floor is the core's twh_carrier's to check)
+    twh_engine #(.CLK_HZ(CLK_HZ), .CHANNELS(CHANNELS), .TAG_W(5), .QDEPTH(4),
+                 .CHECK_FLOOR(0)) u_engine (
         .clk(clk), .rst(rst), .tick(tick), .fall(fall), .cfg_idle_charge(idle_charge),
-        .enable(enable), .cancel(cancel), .poll_req(p_due), .poll_cmd(p_cmd),
+        .enable(enable), .cancel(cancel), .poll_req(p_due), .poll_cmd(p_cmd), .scan_ch(scan_ch),
         .t_we(|dur_we), .t_ch(t_ch), .t_fld(dur_fld), .t_len(dur),
         .s_cmd_valid(cmd_valid), .s_cmd_ready(cmd_ready), .s_cmd_ch(cmd_ch[CW-1:0]),
         .s_cmd_code(cmd_code), .s_cmd_payload(cmd_payload), .s_cmd_tag(cmd_tag),
@@ -104,7 +110,16 @@ module twh_core_engine #(
         .line_o(line_o), .line_oe(line_oe), .line_i(line_i),
         .busy(e_busy), .pending(e_pending), .running(e_running), .full(full), .cancelling(cancelling),
         .phase(e_phase), .fld(nx_fld),
-        .p_take(p_take), .p_res(p_res), .p_ch(p_ch), .p_data(p_data), .p_status(p_status)
+        .p_take(p_take), .p_res(p_res), .p_ch(p_ch), .p_data(p_data), .p_status(p_status),
+        .p_count(p_count)
+    );
+    twh_polls #(.CHANNELS(CHANNELS), .POLLING(POLLING)) u_polls (
+        .clk(clk), .rst(rst), .ms_tick(ms_tick),
+        .wr(pc_wr), .wr_ch(reg_ch[CW-1:0]), .wr_data(wdata),
+        .rd_ctrl(rd_ctrl), .rd_res(rd_res), .rd_ch(reg_ch[CW-1:0]), .rd_data(rd_data),
+        .scan_ch(scan_ch), .poll_cmd(p_cmd), .poll_req(p_due),
+        .p_take(p_take), .p_res(p_res), .p_ch(p_ch), .p_data(p_data), .p_status(p_status),
+        .p_count(p_count), .sample(poll_sample), .error(poll_error)
     );
     // verilator lint_off UNUSEDSIGNAL
     wire [3:0] r_ch4 = {{(4-CW){1'b0}}, r_ch};    // (CW is 1-3)
@@ -115,21 +130,12 @@ module twh_core_engine #(
     // pushes only into a queue that is not full: `full`)
     // verilator lint_off UNUSEDSIGNAL
     wire       cmd_ready;
-    wire [2:0] unused_ch = cmd_ch;
+    wire [2:0] unused_ch = cmd_ch ^ reg_ch;
     // verilator lint_on UNUSEDSIGNAL
 
     genvar n;
     generate
         for (n = 0; n < CHANNELS; n = n + 1) begin : g_ch
-            twh_poller #(.POLLING(POLLING)) u_poll (
-                .clk(clk), .rst(rst), .ms_tick(ms_tick),
-                .wdata(wdata), .wdata_ok(wdata_ok), .wr_poll_ctrl(wr_poll_ctrl[n]),
-                .take(p_take && p_ch == n), .res(p_res && p_ch == n),
-                .res_data(p_data), .res_status(p_status),
-                .due(p_due[n]), .cmd(p_cmd[n*16 +: 16]),
-                .poll_ctrl(poll_ctrl[n*32 +: 32]), .poll_result(poll_result[n*32 +: 32]),
-                .sample(poll_sample[n]), .error(poll_error[n])
-            );
             wire [2:0] ph = e_phase[n*3 +: 3];
             wire on_line = (ph != `TWH_PH_IDLE);
             assign state[n*32 +: 32] = {27'd0, e_pending[n], on_line, ph};

@@ -47,6 +47,12 @@
 `define TWH_TURNAROUND_DEF  16'd2000
 
 // Register interface (rdl/twh_regs.rdl is the description)
+// The time-shared engine's clock floor (docs/engine.md): P = CLK_HZ / 1 MHz
+// clocks a period, FRAC the Hz left over. twh_engine checks it, and
+// twh_carrier for the core (so that a bad clock names one error).
+`define TWH_ENGINE_FLOOR_OK(p, frac, ch) \
+    ((p) >= 4 && (p) >= (ch) && (ch) + 4 < 2 * (p) && ((frac) == 0 || (p) >= (ch) + 5))
+
 `define TWH_MAGIC         32'h54574831    // "TWH1"
 `define TWH_VERSION_MAJOR 8'd1
 `define TWH_VERSION_MINOR 8'd0

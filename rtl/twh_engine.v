@@ -63,6 +63,8 @@ module twh_engine #(
     // shallow one would otherwise be flip-flops); 0: synthesis chooses
     // (ECP5: LUT RAM while shallow)
     parameter integer RAM_BLOCK = 1,
+    // 0: the clock floor is checked by the core's twh_carrier instead
+    parameter integer CHECK_FLOOR = 1,
     // derived, not to be set
     parameter integer CW        = (CHANNELS > 1) ? $clog2(CHANNELS) : 1
 ) (
@@ -75,7 +77,9 @@ module twh_engine #(
     input  wire                cancel,         // flush: queued commands not yet started
                                                // are answered CANCELLED
     input  wire [CHANNELS-1:0] poll_req,       // per channel: its poll is due (armed, enabled)
-    input  wire [CHANNELS*16-1:0] poll_cmd,    // per channel: {payload, code} of its poll
+    input  wire [15:0]         poll_cmd,       // {payload, code} of the poll of the channel
+                                               // at scan_ch a clock before (a RAM's read)
+    output wire [CW-1:0]       scan_ch,        // the channel S0 reads
     // phase lengths, microseconds, clamped: field 1 charge .. 6 turnaround
     input  wire                t_we,
     input  wire [CW-1:0]       t_ch,
@@ -115,7 +119,8 @@ module twh_engine #(
     output reg                 p_res,
     output reg  [CW-1:0]       p_ch,
     output reg  [15:0]         p_data,
-    output reg  [3:0]          p_status
+    output reg  [3:0]          p_status,
+    output reg  [11:0]         p_count         // the channel's polls completed, this one included
 );
     localparam integer P    = CLK_HZ / 1_000_000;
     localparam integer FRAC = CLK_HZ % 1_000_000;
@@ -133,8 +138,7 @@ module twh_engine #(
     generate
         if (CHANNELS < CHANNELS_MIN || CHANNELS > CHANNELS_MAX) begin : g_bad_channels
             twh_error_CHANNELS_must_be_1_to_32 u_err ();
-        end else if (P < 4 || P < CHANNELS || CHANNELS + 4 >= 2 * P ||
-                     (FRAC != 0 && P < CHANNELS + 5)) begin : g_bad_floor
+        end else if (CHECK_FLOOR != 0 && !`TWH_ENGINE_FLOOR_OK(P, FRAC, CHANNELS)) begin : g_bad_floor
             twh_error_CLK_HZ_below_the_engine_floor_for_CHANNELS u_err ();
         end
         if ((1 << QW) != QDEPTH || QDEPTH < 2) begin : g_bad_qdepth
@@ -148,7 +152,8 @@ module twh_engine #(
     // then the union U, by phase: the receiver's fields in listen; the
     // command's bit and byte in the command phase (and a poll's frame, which
     // has no queue entry); the result (data, status) while it waits. Then [PL]:
-    // the transaction is a poll (from its charge to its listen's end).
+    // the transaction is a poll (from its charge to its listen's end); [CT]
+    // the channel's count of polls completed.
     localparam integer U0 = 22;
     localparam integer SH = U0;          // 24: received data bits, first in [7:0]
     localparam integer SB = U0 + 24;     // 5: ticks into the bit
@@ -161,7 +166,8 @@ module twh_engine #(
     localparam integer FE = U0 + 44;     // framing error
     localparam integer EN = U0 + 45;     // the answer ended in a break
     localparam integer PL = U0 + 46;     // the transaction is a poll (its frame in SH)
-    localparam integer W  = U0 + 47;
+    localparam integer CT = U0 + 47;     // 12: polls completed (POLL_RESULT.COUNT)
+    localparam integer W  = U0 + 59;
     localparam integer RS = U0 + 16;     // 4: the waiting result's status (data in U[15:0])
     localparam [W-1:0] W_RESET = {{(W-19){1'b0}}, `TWH_TURNAROUND_MIN + 16'd1, `TWH_PH_IDLE};
 
@@ -195,6 +201,7 @@ module twh_engine #(
             s0_ch <= s0_ch + 1'b1;
         end
     end
+    assign scan_ch = s0_ch;
 
     // The timing field the phase after `p` loads (twh_timing's codes: 1
     // charge .. 6 turnaround). The command phase's length is fixed, so
@@ -281,7 +288,7 @@ module twh_engine #(
         // command it was checked with; a flush's count, and a flush in this
         // very clock (its count, written now, covers this head: act is 0)
         s2_pr   <= !rst && poll_req[s1_ch];
-        s2_pc   <= poll_cmd[s1_ch*16 +: 16];
+        s2_pc   <= poll_cmd;
         s2_pf   <= pref[s1_ch];
         s2_cc   <= (ccnt[s1_ch*(QW+1) +: QW+1] != {(QW+1){1'b0}}) || cancel;
     end
@@ -460,6 +467,7 @@ module twh_engine #(
                     wn[18:3] = s2_len;
                     wn[U0 +: 46] = 46'd0;
                     wn[PL] = 1'b0;
+                    if (w[PL]) wn[CT +: 12] = w[CT +: 12] + 12'd1;
                     if (!w[PL]) begin       // a poll's result leaves on p_res
                         wn[19] = 1'b1;
                         wn[RS +: 4]  = r_status;
@@ -505,6 +513,7 @@ module twh_engine #(
         p_ch      <= s2_ch;
         p_data    <= r_data_ok ? {r_sh[7:0], r_sh[15:8]} : 16'd0;
         p_status  <= r_status;
+        p_count   <= w[CT +: 12] + 12'd1;
     end
 
     // S3: the drive for the next period, from the new word (twh_link's):

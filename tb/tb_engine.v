@@ -60,7 +60,7 @@ module tb_engine #(
     twh_engine #(.CLK_HZ(CLK_HZ), .CHANNELS(CHANNELS), .TAG_W(8)) dut (
         .clk(clk), .rst(rst), .tick(tick), .fall(fall), .cfg_idle_charge(cfg_idle_charge),
         // (polls, flush and the enable are the core's: tb/test_twh_core.py)
-        .enable(1'b1), .cancel(1'b0), .poll_req({CHANNELS{1'b0}}), .poll_cmd({(CHANNELS*16){1'b0}}),
+        .enable(1'b1), .cancel(1'b0), .poll_req({CHANNELS{1'b0}}), .poll_cmd(16'd0), .scan_ch(),
         .t_we(t_we), .t_ch(t_ch), .t_fld(t_fld), .t_len(t_len),
         .s_cmd_valid(s_cmd_valid), .s_cmd_ready(s_cmd_ready), .s_cmd_ch(s_cmd_ch),
         .s_cmd_code(s_cmd_code), .s_cmd_payload(s_cmd_payload), .s_cmd_tag(s_cmd_tag),
@@ -69,7 +69,7 @@ module tb_engine #(
         .m_res_code(m_res_code), .m_res_data(m_res_data), .m_res_status(m_res_status),
         .m_res_tag(m_res_tag),
         .line_o(line_o), .line_oe(line_oe), .line_i(line), .busy(busy), .phase(phase),
-        .pending(), .running(), .full(), .cancelling(), .fld(), .p_take(), .p_res(), .p_ch(), .p_data(), .p_status()
+        .pending(), .running(), .full(), .cancelling(), .fld(), .p_take(), .p_res(), .p_ch(), .p_data(), .p_status(), .p_count()
     );
     genvar n;
     generate

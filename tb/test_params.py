@@ -62,9 +62,6 @@ def _localparam(path, name):
 CH_MIN, CH_MAX = _localparam(CORE_V, "CHANNELS_MIN"), _localparam(CORE_V, "CHANNELS_MAX")
 FD_MIN, FD_MAX = _localparam(CORE_V, "FIFO_DEPTH_MIN"), _localparam(CORE_V, "FIFO_DEPTH_MAX")
 CLK_MIN, CLK_MAX = _localparam(CARRIER_V, "CLK_HZ_MIN"), _localparam(CARRIER_V, "CLK_HZ_MAX")
-# twh_core's copy of them (it builds the engine with a stand-in outside them)
-assert (_localparam(CORE_V, "CARRIER_CLK_MIN"), _localparam(CORE_V, "CARRIER_CLK_MAX")) == \
-    (CLK_MIN, CLK_MAX), "rtl/twh_core.v's CARRIER_CLK_MIN/MAX are not twh_carrier's range"
 ECH_MIN, ECH_MAX = _localparam(ENGINE_V, "CHANNELS_MIN"), _localparam(ENGINE_V, "CHANNELS_MAX")
 
 # the error module each parameter's check instantiates, named for its range
@@ -72,6 +69,7 @@ ERROR = {
     "CHANNELS": f"twh_error_CHANNELS_must_be_{CH_MIN}_to_{CH_MAX}",
     "FIFO_DEPTH": f"twh_error_FIFO_DEPTH_must_be_a_power_of_two_{FD_MIN}_to_{FD_MAX}",
     "CLK_HZ": f"twh_error_CLK_HZ_must_be_{CLK_MIN // 1_000_000}MHz_to_{CLK_MAX // 1_000_000}MHz",
+    "ENGINE": f"twh_error_ENGINE_must_be_0_or_{_localparam(CORE_V, 'ENGINE_MAX')}",
 }
 
 # the time-shared engine (issue 34, docs/engine.md; not yet behind the bus
@@ -113,6 +111,7 @@ BAD = [
     ("twh_axil", "CLK_HZ",     250_000_000),
     ("twh_wb",   "FIFO_DEPTH", 24),
     ("twh_axil", "FIFO_DEPTH", 2 * FD_MAX),
+    ("twh_wb",   "ENGINE",     2),
 ]
 # the legal ends of the ranges, all in one build
 GOOD = [
@@ -133,7 +132,7 @@ def test_ranges_agree():
     assert CH_MIN - 1 < CH_MIN and CH_MAX < CH_MAX + 1
     assert not CLK_MIN <= 3_000_000 <= CLK_MAX and not CLK_MIN <= 250_000_000 <= CLK_MAX
     assert FD_MIN <= 24 <= FD_MAX and 24 & 23
-    for path, names in ((CORE_V, ("CHANNELS", "FIFO_DEPTH")), (CARRIER_V, ("CLK_HZ",))):
+    for path, names in ((CORE_V, ("CHANNELS", "FIFO_DEPTH", "ENGINE")), (CARRIER_V, ("CLK_HZ",))):
         text = path.read_text()
         for name in names:
             assert re.search(rf"^\s*{ERROR[name]}\s+u_err\s*\(\s*\)\s*;", text, re.M), \
@@ -229,3 +228,28 @@ def test_engine_floor_ends_elaborate(tools, tool, params, tmp_path):
     assert rc == 0, shown
     assert "twh_error_" not in out, shown
 
+
+
+# The bus tops with the time-shared engine (ENGINE = 1): a clock below its
+# floor for CHANNELS is named by the core's twh_carrier, once, and a clock
+# outside the carrier's own range (or a fraction it refuses) by the carrier's
+# own error alone, never with the floor's beside it.
+CORE_FLOOR_BAD = [
+    ("twh_wb",   {"CHANNELS": 8, "CLK_HZ": 4_000_000}, ENGINE_ERROR["CLK_HZ"]),
+    ("twh_axil", {"CHANNELS": 4, "CLK_HZ": 4_000_000}, ENGINE_ERROR["CLK_HZ"]),
+    ("twh_wb",   {"CHANNELS": 8, "CLK_HZ": 3_000_000}, ERROR["CLK_HZ"]),
+    ("twh_axil", {"CHANNELS": 1, "CLK_HZ": 4_500_000},
+     "twh_error_CLK_HZ_fraction_puts_a_carrier_period_out_of_spec"),
+]
+
+
+@pytest.mark.parametrize("tool", TOOLS)
+@pytest.mark.parametrize("top,params,error", CORE_FLOOR_BAD,
+                         ids=[f"{t}-" + "-".join(f"{k}={v}" for k, v in p.items())
+                              for t, p, _ in CORE_FLOOR_BAD])
+def test_core_engine_floor(tools, tool, top, params, error, tmp_path):
+    rc, out = _elaborate(tool, tools, top, params, tmp_path)
+    shown = f"{tool} {top} {params}: exit {rc}\n{out[-3000:]}"
+    assert 0 < rc < 128, shown
+    assert not CRASH.search(out), shown
+    assert set(re.findall(r"twh_error_\w+", out)) == {error}, shown

@@ -41,12 +41,12 @@ module twh_engine_bench #(
     wire [CW-1:0] p_ch;
     wire [15:0]   p_data;
     wire [3:0]    p_status;
+    wire [11:0]   p_count;
     twh_engine #(.CLK_HZ(CLK_HZ), .CHANNELS(CHANNELS), .RAM_BLOCK(RAM_BLOCK)) u_engine (
         .clk(clk), .rst(rst), .tick(tick), .fall(fall), .cfg_idle_charge(sr[CHANNELS-1:0]),
-        // (every channel's poll command the same word: the core keeps one a
-        // channel, which this harness does not measure)
+        // (the poll command is a RAM's read in the core: twh_polls)
         .enable(sr[SW-2]), .cancel(sr[SW-3]), .poll_req(sr[SW-1 -: CHANNELS]),
-        .poll_cmd({CHANNELS{sr[CW +: 16]}}),
+        .poll_cmd(sr[CW +: 16]), .scan_ch(),
         .t_we(go_t), .t_ch(sr[CW-1:0]), .t_fld(sr[CW +: 3]), .t_len(sr[CW+3 +: 16]),
         .s_cmd_valid(go), .s_cmd_ready(ready), .s_cmd_ch(sr[CW-1:0]),
         .s_cmd_code(sr[CW +: 8]), .s_cmd_payload(sr[CW+8 +: 16]), .s_cmd_tag(sr[CW+24 +: 8]),
@@ -55,16 +55,16 @@ module twh_engine_bench #(
         .m_res_data(rdata), .m_res_status(rst_s), .m_res_tag(rtag),
         .line_o(line_o), .line_oe(line_oe), .line_i(line_i), .busy(busy),
         .phase(phase), .pending(pending), .running(), .full(), .cancelling(), .fld(),
-        .p_take(p_take), .p_res(p_res), .p_ch(p_ch), .p_data(p_data), .p_status(p_status)
+        .p_take(p_take), .p_res(p_res), .p_ch(p_ch), .p_data(p_data), .p_status(p_status), .p_count(p_count)
     );
     // every output registered before the fold, so the fold's XOR tree is
     // no path of the engine's
     localparam integer OW = 1 + 1 + CW + 8 + 8 + 16 + 4 + CHANNELS + CHANNELS * 3 +
-                            CHANNELS + 2 + CW + 16 + 4;
+                            CHANNELS + 2 + CW + 16 + 4 + 12;
     reg [OW-1:0] outs;
     always @(posedge clk) begin
         outs <= {ready, rv, rch, rcode, rtag, rdata, rst_s, busy, phase,
-                 pending, p_take, p_res, p_ch, p_data, p_status};
+                 pending, p_take, p_res, p_ch, p_data, p_status, p_count};
         sout <= ^outs;
     end
 endmodule

@@ -1,0 +1,245 @@
+// Every channel's autonomous poller for the time-shared engine, its
+// registers in RAM: POLL_CTRL (bus read and write), POLL_RESULT (bus read),
+// each channel's millisecond timer, and the command the engine sends. Per
+// channel only four flags stay in flip-flops (due, restart, and whether
+// each register was written since reset), so a channel costs a few cells
+// here rather than a poller's eighty flip-flops.
+//
+// - A walker steps every channel's timer once a millisecond (two clocks a
+//   channel; a bus read of POLL_CTRL takes the memory's read port first and
+//   the walker waits). Polls fall due on a fixed grid: every INTERVAL_MS
+//   from the first millisecond tick after EN was set. A channel's command
+//   is copied for the engine when its poll falls due and only then (never
+//   while one is due), so the engine reads a command that was checked as
+//   read-only when it was written (the core refuses a write with EN = 1 of
+//   any other command) and that no write changes under it.
+// - `due` is raised a clock after the command is written: a scan that read
+//   the command memory in the clock it was written sees no request.
+// - A POLL_CTRL write with EN = 0 withdraws the channel's due poll at once,
+//   and its timer restarts at the walker's next step (so polling switched
+//   off and on again polls at the next millisecond, as switched on does).
+//   A write the walker read a moment before is read again (`w_dirty`).
+// - POLL_RESULT is written when a poll's result arrives, with the count
+//   the engine keeps in the channel's state word; a read in the clock of
+//   that write answers the word written.
+// - Reset: a register not written since reads its reset value (a flag per
+//   channel), so a reset needs no walk through the memories.
+`default_nettype none
+`include "twh_defs.vh"
+module twh_polls #(
+    parameter integer CHANNELS = 1,
+    parameter integer POLLING  = 1,      // 0: no poller (POLL_CTRL reads 0, nothing due)
+    parameter integer CW       = (CHANNELS > 1) ? $clog2(CHANNELS) : 1
+) (
+    input  wire                clk,
+    input  wire                rst,
+    input  wire                ms_tick,
+    // the core's request stage: an accepted POLL_CTRL write, a read
+    input  wire                wr,
+    input  wire [CW-1:0]       wr_ch,
+    input  wire [31:0]         wr_data,
+    input  wire                rd_ctrl,      // POLL_CTRL of rd_ch
+    input  wire                rd_res,       // POLL_RESULT of rd_ch
+    input  wire [CW-1:0]       rd_ch,
+    output wire [31:0]         rd_data,      // a clock later; 0 after no read
+    // the engine
+    input  wire [CW-1:0]       scan_ch,      // its read address (S0)
+    output wire [15:0]         poll_cmd,     // that channel's {payload, code}, a clock later
+    output wire [CHANNELS-1:0] poll_req,     // its poll is due
+    input  wire                p_take,       // a poll started (p_ch)
+    input  wire                p_res,        // a poll's result (p_ch)
+    input  wire [CW-1:0]       p_ch,
+    input  wire [15:0]         p_data,
+    input  wire [3:0]          p_status,
+    input  wire [11:0]         p_count,
+    output reg  [CHANNELS-1:0] sample,       // a poll result arrived (one clock)
+    output reg                 error         // ... and it was a link error
+);
+    localparam [31:0] CTRL_DEF = (POLLING != 0) ? {1'b0, 15'd1000, 8'hAA, 8'h44} : 32'd0;
+
+    reg  [CHANNELS-1:0] due, restart, pc_wr, pr_wr;
+
+    // ------------------------------------------------------------ POLL_CTRL
+    reg          w_on, w_s, w_pend, w_dirty;
+    reg [CW-1:0] w_ch;
+    wire         w_read = w_on && !w_s && !rd_ctrl;    // the walker reads this clock
+    // POLL_CTRL and the engine's copy of the command are memories of this
+    // module (block RAM, as twh_ram's) so that its proof can name their words
+    (* ram_style = "block" *) (* no_rw_check *) reg [31:0] pc_mem [0:(1 << CW) - 1];
+    (* ram_style = "block" *) (* no_rw_check *) reg [15:0] cm_mem [0:(1 << CW) - 1];
+    reg  [31:0]  pc_rd;
+    reg  [15:0]  cm_rd;
+    always @(posedge clk) begin
+        if (wr && POLLING != 0) pc_mem[wr_ch] <= wr_data;
+        pc_rd <= pc_mem[rd_ctrl ? rd_ch : w_ch];
+    end
+    wire [15:0] tm_rd;
+    wire        tm_we;
+    reg  [15:0] tm_wd;
+    twh_ram #(.W(16), .AW(CW), .BLOCK(1)) u_timer (
+        .clk(clk), .we(tm_we), .waddr(w_ch), .wdata(tm_wd), .raddr(w_ch), .rdata(tm_rd)
+    );
+    wire        cm_we;
+    wire [31:0] pc_w;
+    always @(posedge clk) begin
+        if (cm_we) cm_mem[w_ch] <= pc_w[15:0];
+        cm_rd <= cm_mem[scan_ch];
+    end
+    assign poll_cmd = cm_rd;
+
+    // the walker's step for w_ch, from the words read a clock ago
+    assign      pc_w   = pc_wr[w_ch] ? pc_rd : CTRL_DEF;
+    wire        p_en   = pc_w[31];
+    wire [14:0] p_iv   = pc_w[30:16];
+    wire        rs     = restart[w_ch];
+    wire [14:0] t_now  = rs ? 15'd1 : tm_rd[14:0];
+    wire        l_now  = rs || tm_rd[15];
+    wire        reload = p_en && l_now;
+    always @(*) begin
+        tm_wd = {l_now, t_now};
+        if (!p_en)       tm_wd = {1'b1, 15'd1};
+        else if (l_now)  tm_wd = {p_iv <= 15'd1, p_iv};
+        else             tm_wd = {t_now == 15'd2, t_now - 15'd1};
+    end
+    wire commit = w_on && w_s && !w_dirty && !(wr && wr_ch == w_ch);
+    localparam [CW-1:0] LAST = CHANNELS[CW-1:0] - 1'b1;
+    reg          set_due;       // raise due a clock after the command is written
+    reg [CW-1:0] set_ch;
+    always @(posedge clk) begin
+        if (rst || POLLING == 0) begin
+            w_on <= 1'b0; w_s <= 1'b0; w_pend <= 1'b0; w_dirty <= 1'b0;
+            w_ch <= {CW{1'b0}};
+        end else begin
+            if (ms_tick) w_pend <= 1'b1;
+            if (!w_on) begin
+                if (w_pend || ms_tick) begin
+                    w_on   <= 1'b1;
+                    w_pend <= 1'b0;
+                    w_s    <= 1'b0;
+                    w_ch   <= {CW{1'b0}};
+                end
+            end else if (!w_s) begin
+                if (w_read) begin
+                    w_s     <= 1'b1;
+                    w_dirty <= wr && wr_ch == w_ch;
+                end
+            end else begin
+                w_s <= 1'b0;
+                if (commit) begin
+                    w_ch <= w_ch + 1'b1;
+                    if (w_ch == LAST) w_on <= 1'b0;
+                end
+            end
+        end
+    end
+    // the commit's writes: the timer, and at a poll falling due (none
+    // pending) the command and, a clock later, due
+    assign tm_we = commit && !rst && POLLING != 0;
+    assign cm_we = tm_we && reload && !due[w_ch];
+    always @(posedge clk) begin
+        set_due <= cm_we;
+        set_ch  <= w_ch;
+    end
+
+    genvar n;
+    generate
+        for (n = 0; n < CHANNELS; n = n + 1) begin : g_ch
+            wire wr_n = wr && wr_ch == n;
+            always @(posedge clk) begin
+                if (rst || POLLING == 0) begin
+                    due[n]     <= 1'b0;
+                    restart[n] <= 1'b1;
+                    pc_wr[n]   <= 1'b0;
+                    pr_wr[n]   <= 1'b0;
+                end else begin
+                    if (wr_n) pc_wr[n] <= 1'b1;
+                    if (p_res && p_ch == n) pr_wr[n] <= 1'b1;
+                    if (wr_n && !wr_data[31])            restart[n] <= 1'b1;
+                    else if (commit && w_ch == n)        restart[n] <= 1'b0;
+                    if ((wr_n && !wr_data[31]) || (p_take && p_ch == n)) due[n] <= 1'b0;
+                    else if (set_due && set_ch == n)                      due[n] <= 1'b1;
+                end
+            end
+        end
+    endgenerate
+    assign poll_req = due;
+
+    // ------------------------------------------------------------ POLL_RESULT
+    wire [31:0] pr_wd = {p_count, p_status, p_data};
+    wire [31:0] pr_rd;
+    twh_ram #(.W(32), .AW(CW), .BLOCK(1)) u_res (
+        .clk(clk), .we(p_res && POLLING != 0), .waddr(p_ch), .wdata(pr_wd),
+        .raddr(rd_ch), .rdata(pr_rd)
+    );
+    wire link_err = (p_status >= `TWH_ST_BAD_CHECKSUM) && (p_status <= `TWH_ST_LINE_STUCK_HIGH);
+    always @(posedge clk) begin
+        sample <= (!rst && p_res && POLLING != 0) ? {{(CHANNELS-1){1'b0}}, 1'b1} << p_ch
+                                                  : {CHANNELS{1'b0}};
+        error  <= !rst && p_res && POLLING != 0 && link_err;
+    end
+
+    // ------------------------------------------------------------ bus reads
+    reg        q_ctrl, q_res, q_pcw, q_prw, q_byp;
+    reg [31:0] q_byw;
+    always @(posedge clk) begin
+        q_ctrl <= !rst && rd_ctrl;
+        q_res  <= !rst && rd_res;
+        q_pcw  <= pc_wr[rd_ch];
+        q_prw  <= pr_wr[rd_ch];
+        // a POLL_RESULT read meeting its channel's write: the word written
+        q_byp  <= p_res && p_ch == rd_ch;
+        q_byw  <= pr_wd;
+    end
+    assign rd_data = ({32{q_ctrl}} & (q_pcw ? pc_rd : CTRL_DEF)) |
+                     ({32{q_res && POLLING != 0}} & (q_byp ? q_byw : q_prw ? pr_rd : 32'd0));
+
+`ifdef FORMAL
+    // ================================================================ formal
+    // formal/twh_polls.sby. The property that matters: whenever the engine
+    // takes a channel's request together with the command it read for that
+    // channel a clock before, the command is read-only (0x40-0x44,
+    // 0x46-0x49), whatever the bus writes and whenever. The core's verdict
+    // on a POLL_CTRL write with EN = 1 (proven on the core, twh_core:port)
+    // is assumed, and the core names only existing channels.
+    reg f_ok = 1'b0;
+    always @(posedge clk) if (rst) f_ok <= 1'b1;
+    function f_ro;
+        input [7:0] c;
+        f_ro = (c >= 8'h40 && c <= 8'h44) || (c >= 8'h46 && c <= 8'h49);
+    endfunction
+    always @(*) begin
+        if (wr && wr_data[31]) assume(f_ro(wr_data[7:0]));
+        assume(wr_ch < CHANNELS && rd_ch < CHANNELS && scan_ch < CHANNELS && p_ch < CHANNELS);
+    end
+    (* anyconst *) reg [CW-1:0] f_n;
+    always @(*) assume(f_n < CHANNELS);
+    reg [CW-1:0] f_sc;            // the channel the engine's read named a clock ago
+    reg          f_past = 1'b0;
+    always @(posedge clk) begin
+        f_sc   <= scan_ch;
+        f_past <= f_ok && !rst;
+    end
+    always @(*) begin
+        if (f_ok && POLLING != 0) begin
+            // every POLL_CTRL word that polls names a read-only command
+            if (pc_wr[f_n] && pc_mem[f_n][31]) assert(f_ro(pc_mem[f_n][7:0]));
+            // the walker's word is the memory's, unless a write met its read
+            if (w_on && w_s && !w_dirty) assert(pc_rd == pc_mem[w_ch]);
+            if (w_on) assert(w_ch < CHANNELS);
+            // a due poll's command, and one about to fall due, is read-only
+            if (due[f_n]) assert(f_ro(cm_mem[f_n][7:0]));
+            if (set_due && set_ch == f_n) assert(f_ro(cm_mem[f_n][7:0]) && !due[f_n]);
+        end
+        // the engine's contract: a request with the command read for it
+        if (f_past && f_sc == f_n && due[f_n]) assert(f_ro(poll_cmd[7:0]));
+        if (POLLING == 0) assert(due == {CHANNELS{1'b0}});
+    end
+    always @(posedge clk) begin
+        if (f_ok && !rst) begin
+            cover(p_take && p_ch == f_n);
+            cover(set_due && set_ch == f_n && pc_wr[f_n]);
+        end
+    end
+`endif
+endmodule
+`default_nettype wire
