@@ -5,9 +5,9 @@
 // each register was written since reset), so a channel costs a few cells
 // here rather than a poller's eighty flip-flops.
 //
-// - A walker steps every channel's timer once a millisecond (two clocks a
-//   channel; a bus read of POLL_CTRL takes the memory's read port first and
-//   the walker waits). Polls fall due on a fixed grid: every INTERVAL_MS
+// - A walker steps every channel's timer once a millisecond (three clocks a
+//   channel: read, step, commit; a bus read of POLL_CTRL takes the memory's
+//   read port first and the walker waits). Polls fall due on a fixed grid: every INTERVAL_MS
 //   from the first millisecond tick after EN was set. A channel's command
 //   is copied for the engine when its poll falls due and only then (never
 //   while one is due), so the engine reads a command that was checked as
@@ -60,9 +60,10 @@ module twh_polls #(
     reg  [CHANNELS-1:0] due, restart, pc_wr, pr_wr;
 
     // ------------------------------------------------------------ POLL_CTRL
-    reg          w_on, w_s, w_pend, w_dirty;
+    reg          w_on, w_pend, w_dirty;
+    reg [1:0]    w_s;           // 0 read, 1 step (from the words read), 2 commit
     reg [CW-1:0] w_ch;
-    wire         w_read = w_on && !w_s && !rd_ctrl;    // the walker reads this clock
+    wire         w_read = w_on && w_s == 2'd0 && !rd_ctrl;   // the walker reads this clock
     // POLL_CTRL and the engine's copy of the command are memories of this
     // module (block RAM, as twh_ram's) so that its proof can name their words
     (* ram_style = "block" *) (* no_rw_check *) reg [31:0] pc_mem [0:(1 << CW) - 1];
@@ -77,17 +78,21 @@ module twh_polls #(
     wire        tm_we;
     reg  [15:0] tm_wd;
     twh_ram #(.W(16), .AW(CW), .BLOCK(1)) u_timer (
-        .clk(clk), .we(tm_we), .waddr(w_ch), .wdata(tm_wd), .raddr(w_ch), .rdata(tm_rd)
+        .clk(clk), .we(tm_we), .waddr(w_ch), .wdata(q_tm), .raddr(w_ch), .rdata(tm_rd)
     );
     wire        cm_we;
     wire [31:0] pc_w;
+    reg  [15:0] q_cmd;          // the step's: the command, the timer word, reload
+    reg  [15:0] q_tm;
+    reg         q_reload;
     always @(posedge clk) begin
-        if (cm_we) cm_mem[w_ch] <= pc_w[15:0];
+        if (cm_we) cm_mem[w_ch] <= q_cmd;
         cm_rd <= cm_mem[scan_ch];
     end
     assign poll_cmd = cm_rd;
 
-    // the walker's step for w_ch, from the words read a clock ago
+    // the walker's step for w_ch, from the words read a clock ago, registered
+    // for the commit a clock later (off the RAM outputs' path)
     assign      pc_w   = pc_wr[w_ch] ? pc_rd : CTRL_DEF;
     wire        p_en   = pc_w[31];
     wire [14:0] p_iv   = pc_w[30:16];
@@ -101,13 +106,18 @@ module twh_polls #(
         else if (l_now)  tm_wd = {p_iv <= 15'd1, p_iv};
         else             tm_wd = {t_now == 15'd2, t_now - 15'd1};
     end
-    wire commit = w_on && w_s && !w_dirty && !(wr && wr_ch == w_ch);
+    always @(posedge clk) begin
+        q_cmd    <= pc_w[15:0];
+        q_tm     <= tm_wd;
+        q_reload <= reload;
+    end
+    wire commit = w_on && w_s == 2'd2 && !w_dirty && !(wr && wr_ch == w_ch);
     localparam [CW-1:0] LAST = CHANNELS[CW-1:0] - 1'b1;
     reg          set_due;       // raise due a clock after the command is written
     reg [CW-1:0] set_ch;
     always @(posedge clk) begin
         if (rst || POLLING == 0) begin
-            w_on <= 1'b0; w_s <= 1'b0; w_pend <= 1'b0; w_dirty <= 1'b0;
+            w_on <= 1'b0; w_s <= 2'd0; w_pend <= 1'b0; w_dirty <= 1'b0;
             w_ch <= {CW{1'b0}};
         end else begin
             if (ms_tick) w_pend <= 1'b1;
@@ -115,16 +125,21 @@ module twh_polls #(
                 if (w_pend || ms_tick) begin
                     w_on   <= 1'b1;
                     w_pend <= 1'b0;
-                    w_s    <= 1'b0;
+                    w_s    <= 2'd0;
                     w_ch   <= {CW{1'b0}};
                 end
-            end else if (!w_s) begin
+            end else if (w_s == 2'd0) begin
                 if (w_read) begin
-                    w_s     <= 1'b1;
+                    w_s     <= 2'd1;
                     w_dirty <= wr && wr_ch == w_ch;
                 end
+            end else if (w_s == 2'd1) begin
+                // a write to the channel between its read and its commit:
+                // read it again
+                w_s     <= 2'd2;
+                if (wr && wr_ch == w_ch) w_dirty <= 1'b1;
             end else begin
-                w_s <= 1'b0;
+                w_s <= 2'd0;
                 if (commit) begin
                     w_ch <= w_ch + 1'b1;
                     if (w_ch == LAST) w_on <= 1'b0;
@@ -135,7 +150,7 @@ module twh_polls #(
     // the commit's writes: the timer, and at a poll falling due (none
     // pending) the command and, a clock later, due
     assign tm_we = commit && !rst && POLLING != 0;
-    assign cm_we = tm_we && reload && !due[w_ch];
+    assign cm_we = tm_we && q_reload && !due[w_ch];
     always @(posedge clk) begin
         set_due <= cm_we;
         set_ch  <= w_ch;
@@ -223,8 +238,11 @@ module twh_polls #(
         if (f_ok && POLLING != 0) begin
             // every POLL_CTRL word that polls names a read-only command
             if (pc_wr[f_n] && pc_mem[f_n][31]) assert(f_ro(pc_mem[f_n][7:0]));
-            // the walker's word is the memory's, unless a write met its read
-            if (w_on && w_s && !w_dirty) assert(pc_rd == pc_mem[w_ch]);
+            // the walker's word is the memory's, unless a write met its read;
+            // the command its step took is read-only when it falls due
+            if (w_on && w_s == 2'd1 && !w_dirty) assert(pc_rd == pc_mem[w_ch]);
+            if (w_on && w_s == 2'd2 && !w_dirty && q_reload && w_ch == f_n) assert(f_ro(q_cmd[7:0]));
+            if (w_on) assert(w_s != 2'd3);
             if (w_on) assert(w_ch < CHANNELS);
             // a due poll's command, and one about to fall due, is read-only
             if (due[f_n]) assert(f_ro(cm_mem[f_n][7:0]));

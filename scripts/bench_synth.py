@@ -1,14 +1,16 @@
 #!/usr/bin/env python3
 """Resource and Fmax benchmark: the bare Wishbone core (twh_wb, 16-deep
-FIFOs) at CHANNELS = 1 and 3 on each part, the lean build (PROG_TIMING = 0,
-POLLING = 0) at one and three channels on the HX8K, and the board tops (make
-boards) at CHANNELS = 1 and 3, the iCEBreaker's also as the lean build. Fmax
-of the goal configurations over nextpnr seeds 1-5 at one and three channels.
-Prints a table and, with --write, writes it into docs/resources.md.
-Figures are measured, never asserted: each row of issue 19's goal table is
-shown beside its goal with how far off it is, and the iCEBreaker top at
-three channels, full and lean, and as the lean build at one channel side by
-side on the UP5K, with the logic cells left for a soft CPU.
+FIFOs) at CHANNELS = 1, 3 and 8 on each part (the time-shared engine,
+ENGINE = 1, the default), the same with ENGINE = 0 (one engine a channel) on
+the HX8K beside it, the lean build (PROG_TIMING = 0, POLLING = 0) at one and
+three channels on the HX8K, and the board tops (make boards) at CHANNELS = 1
+and 3, the iCEBreaker's also as the lean build. Fmax of the goal
+configurations over nextpnr seeds 1-5. Prints a table and, with --write,
+writes it into docs/resources.md. Figures are measured, never asserted: each
+row of issue 34's goal table is shown beside its goal with how far off it
+is, and the iCEBreaker top at three channels, full and lean, and as the lean
+build at one channel side by side on the UP5K, with the logic cells left for
+a soft CPU.
 
 The bare core has ~90 pins: it fits the HX8K's CT256 and the ECP5's CABGA256
 packages (pins placed freely), not the UP5K's SG48; the UP5K figure is the
@@ -29,19 +31,29 @@ import synth  # noqa: E402
 
 ROOT = synth.ROOT
 
-# issue 19's goals. Area: logic cells of twh_wb (16-deep FIFOs) on the
+# issue 34's goals. Area: logic cells of twh_wb (16-deep FIFOs) on the
 # HX8K, at most. Fmax: MHz on each part, at least, the median over SEEDS at
-# one and at three channels (twh_wb; the UP5K through the iCEBreaker top)
+# every channel count measured (twh_wb; the UP5K through the iCEBreaker top)
 GOALS = {
-    "full-1": ("full feature set, 1 channel, Wishbone, 16-deep FIFOs", 700),
-    "per-channel": ("each further channel: (LC at 3 - LC at 1) / 2", 250),
-    "full-3": ("3 channels, full feature set", 1200),
-    "lean-1": ("lean build (PROG_TIMING = 0, POLLING = 0), 1 channel", 450),
+    "per-channel": ("each further channel: the slope from 3 to 8 channels (issue 34 asks "
+                    "8 to 32; the register map stops at 8)", 60),
+    "full-1": ("1 channel, full feature set", 1267),
+    "full-3": ("3 channels", 1500),
+    "full-8": ("8 channels", 1900),
+    "lean-1": ("lean build (PROG_TIMING = 0, POLLING = 0), 1 channel", 877),
+    "lean-3": ("lean build, 3 channels", 1300),
 }
-FMAX_GOALS = {"hx8k": 120, "up5k": 48, "ecp5-25f": 200}
+RAM_GOAL_3 = 11          # iCE40 block RAMs at three channels, at most
+FMAX_GOALS = {"hx8k": 100, "up5k": 48, "ecp5-25f": 160}
 # part, target MHz (its Fmax goal)
 CORE_RUNS = [("hx8k", FMAX_GOALS["hx8k"]), ("ecp5-25f", FMAX_GOALS["ecp5-25f"])]
+# the bare core's channel counts (the register map's 1-8); the board tops
+# and the seed spreads of the UP5K keep one and three
+CORE_CHANNELS = (1, 3, 8)
 CHANNELS = (1, 3)
+# the structure before issue 34, one twh_link engine a channel in
+# flip-flops, measured beside the time-shared engine on the HX8K
+ENGINE0 = {"ENGINE": "0"}
 # the bare core's parameters: the full feature set is the default
 # (PROG_TIMING = POLLING = 1); the lean build is what a board with fixed
 # timing and no poller would pick
@@ -55,18 +67,17 @@ SEEDS = (1, 2, 3, 4, 5)
 UP5K_LC, UP5K_RAM = 5280, 30
 
 
-# pieces of the one-channel core placed alone on the HX8K, every port a pin
-# (nothing trimmed): what each weighs by itself, against the goals of 700
-# logic cells for the whole core and 250 per further channel
-# (docs/architecture.md, "Area and speed")
-PIECES = [("twh_link", {}, "one channel's line engine (phase sequencer, carrier, "
-                           "UART send with checksum, synchroniser, demodulator, receiver)"),
-          ("twh_rx", {}, "its UART receiver (majority vote, start-bit re-check, "
-                         "three bytes)"),
-          ("twh_demod", {}, "its demodulator (glitch filter, carrier envelope)"),
+# pieces of the three-channel core placed alone on the HX8K, every port a
+# pin (nothing trimmed): what each weighs by itself (docs/engine.md)
+PIECES = [("twh_engine", {"CHANNELS": "3", "TAG_W": "5"},
+           "the time-shared engine of three channels (sequencer, frame, receiver, "
+           "queues, result register, pins; its RAMs)"),
+          ("twh_polls", {"CHANNELS": "3"}, "three channels' pollers with their registers "
+                                           "in RAM"),
           ("twh_fifo", {"W": "33", "DEPTH": "16"}, "the 16-deep command FIFO"),
           ("twh_timing", {"CHANNELS": "3"}, "the timing registers of three channels "
-                                            "with their fetch and clamp (block RAM)")]
+                                            "with their fetch and clamp (block RAM)"),
+          ("twh_link", {}, "ENGINE = 0's engine of one channel, for comparison")]
 
 
 def piece_runs():
@@ -180,20 +191,31 @@ def vs_goal(what, value, goal, unit, at_most=True, why=None):
 
 
 def goal_rows(runs, medians, no_boards):
-    """Issue 19's goal table, every row beside its goal."""
+    """Issue 34's goal table, every row beside its goal."""
     lc = {k: (runs[n]["logic"] if n in runs else None) for k, n in
           (("full-1", "hx8k-twh_wb-1"), ("full-3", "hx8k-twh_wb-3"),
-           ("lean-1", "hx8k-twh_wb-lean-1"))}
-    lc["per-channel"] = ((lc["full-3"] - lc["full-1"]) / 2
-                         if lc["full-1"] is not None and lc["full-3"] is not None else None)
+           ("full-8", "hx8k-twh_wb-8"),
+           ("lean-1", "hx8k-twh_wb-lean-1"), ("lean-3", "hx8k-twh_wb-lean-3"))}
+    lc["per-channel"] = ((lc["full-8"] - lc["full-3"]) / 5
+                         if lc["full-3"] is not None and lc["full-8"] is not None else None)
     rows = ["| configuration (HX8K unless named) | measured | goal | how far off |",
             "|---|---|---|---|"]
-    for key in ("full-1", "per-channel", "full-3", "lean-1"):
+    for key in ("per-channel", "full-1", "full-3", "full-8"):
+        what, goal = GOALS[key]
+        rows.append(vs_goal(what, lc[key], goal, "LC"))
+    for ch, goal in ((16, 2400), (32, 3400)):
+        rows.append(vs_goal(f"{ch} channels", None, goal, "LC",
+                            why="the register map reaches 8 channels; v2 is issue 34's "
+                                "next step"))
+    r3 = runs.get("hx8k-twh_wb-3")
+    rows.append(vs_goal("block RAM (iCE40 4-kbit blocks), 3 channels",
+                        r3["ram"] if r3 else None, RAM_GOAL_3, "blocks"))
+    for key in ("lean-1", "lean-3"):
         what, goal = GOALS[key]
         rows.append(vs_goal(what, lc[key], goal, "LC"))
     for part, label in (("hx8k", "HX8K twh_wb"), ("up5k", "UP5K iCEBreaker top"),
                         ("ecp5-25f", "ECP5-25F twh_wb")):
-        for ch in CHANNELS:
+        for ch in (CORE_CHANNELS if part == "hx8k" else CHANNELS):
             rows.append(vs_goal(f"Fmax, {label}, {ch} channel{'s' if ch > 1 else ''}, "
                                 f"median of seeds {SEEDS[0]}-{SEEDS[-1]}",
                                 medians.get((part, ch)), FMAX_GOALS[part], "MHz",
@@ -282,10 +304,12 @@ def run(a):
     rows = []
     for part, mhz in CORE_RUNS:
         builds = [(f"{part}-twh_wb-{ch}", {"CHANNELS": str(ch), **FIFO},
-                   "twh_wb (bare core)") for ch in CHANNELS]
+                   "twh_wb (bare core)") for ch in CORE_CHANNELS]
         if part == "hx8k":
             builds += [(f"{part}-twh_wb-lean-{ch}", {"CHANNELS": str(ch), **FIFO, **LEAN},
                         "twh_wb (bare core), lean build") for ch in CHANNELS]
+            builds += [(f"{part}-twh_wb-engine0-{ch}", {"CHANNELS": str(ch), **FIFO, **ENGINE0},
+                        "twh_wb (bare core), ENGINE = 0") for ch in CORE_CHANNELS]
         for name, params, what in builds:
             r = synth.synth(part, "twh_wb", params, synth.core_sources(), mhz,
                             ROOT / "build" / "bench" / name)
@@ -309,7 +333,7 @@ def run(a):
             if (synth.PNR_FLOW[fam] or synth.SYNTH_FLOW[fam]) and ch == 1 \
             else ((False, spread),)
     for part, mhz in CORE_RUNS:
-        for ch in CHANNELS:
+        for ch in (CORE_CHANNELS if part == "hx8k" else CHANNELS):
             name = f"{part}-twh_wb-{ch}"
             for default_flow, out in flows(part, ch):
                 line, median = seed_spread(part, "twh_wb", {"CHANNELS": str(ch), **FIFO},
@@ -335,11 +359,17 @@ def run(a):
     per_ch = []
     bases = [(f"{part}-twh_wb", part) for part, _ in CORE_RUNS]
     bases.append(("hx8k-twh_wb-lean", "hx8k, lean build"))
+    bases.append(("hx8k-twh_wb-engine0", "hx8k, ENGINE = 0"))
     for base, what in bases:
-        one, three = runs.get(f"{base}-1"), runs.get(f"{base}-3")
+        one, three, eight = (runs.get(f"{base}-{c}") for c in (1, 3, 8))
         if one and three:
-            per_ch.append(f"- {what}: {num((three['logic'] - one['logic']) / 2)} logic cells "
-                          f"per further channel ({one['logic']} at 1, {three['logic']} at 3)")
+            line = (f"- {what}: {num((three['logic'] - one['logic']) / 2)} logic cells "
+                    f"per further channel from 1 to 3 ({one['logic']} at 1, "
+                    f"{three['logic']} at 3)")
+            if eight:
+                line += (f", {num((eight['logic'] - three['logic']) / 5)} from 3 to 8 "
+                         f"({eight['logic']} at 8)")
+            per_ch.append(line)
     goals = goal_rows(runs, medians, a.no_boards)
     soc = soc_rows(runs)
 
@@ -380,14 +410,14 @@ Fmax not shown):
 {chr(10).join(pieces)}
 
 Fmax of the goal configurations over nextpnr placer seeds {', '.join(map(str, SEEDS))}
-(one and three channels; the UP5K against the iCEBreaker top's 48 MHz goal,
-not its 12 MHz board clock):
+(one, three and, on the HX8K, eight channels; the UP5K against the
+iCEBreaker top's 48 MHz goal, not its 12 MHz board clock):
 {chr(10).join(spread)}
 
 The same without the flow's Yosys and nextpnr options (one channel):
 {chr(10).join(spread_default)}
 
-## Goals of issue 19
+## Goals of issue 34
 
 Logic cells of twh_wb with 16-deep FIFOs on the HX8K (seed 1); Fmax the
 median over seeds {SEEDS[0]}-{SEEDS[-1]} above:
@@ -402,8 +432,9 @@ for its CPU's bus:
 
 {chr(10).join(soc) or '(not measured: --no-boards)'}
 
-Where the area goes, and what is planned, is in docs/architecture.md
-("Area and speed").
+Where the area goes, and what is planned, is in docs/engine.md ("In the
+core", "Still to do"); ENGINE = 0's in docs/architecture.md ("Area and
+speed").
 """
         Path(ROOT / a.write).write_text(text)
         print(f"bench: wrote {a.write}")

@@ -99,9 +99,14 @@ def _locked(path):
     return f        # closing it releases the lock
 
 
-def _build_verilator(runner, toplevel, sources, parameters):
+def _build_verilator(runner, toplevel, sources, parameters, defines=None, design=None):
+    """design: a netlist and its cell models in place of rtl/ (their own
+    build, with defines; the cell models' lint warnings are not the
+    project's: -Wno-fatal there)."""
     vsim = ROOT / "build" / "vsim"
-    key = hashlib.sha1(repr((toplevel, sorted(parameters.items()))).encode()).hexdigest()[:12]
+    key = hashlib.sha1(repr((toplevel, sorted(parameters.items()),
+                             sorted((defines or {}).items()),
+                             [str(d) for d in (design or ())])).encode()).hexdigest()[:12]
     build_dir = vsim / f"{toplevel}-{key}"
     build_dir.mkdir(parents=True, exist_ok=True)
     rt_key = hashlib.sha1(repr((str(VERILATOR_ROOT), BUILD_ARGS)).encode()).hexdigest()[:12]
@@ -120,7 +125,8 @@ def _build_verilator(runner, toplevel, sources, parameters):
                 rt_lock.close()
             runner.build(
                 sources=sources, includes=[RTL_DIR], hdl_toplevel=toplevel, parameters=parameters,
-                build_dir=build_dir, timescale=("1ns", "1ps"), build_args=BUILD_ARGS,
+                build_dir=build_dir, timescale=("1ns", "1ps"), defines=defines or {},
+                build_args=BUILD_ARGS + (["-Wno-fatal"] if design else []),
             )
             if not have:
                 tmp = vsim / f"{runtime.name}.tmp"
@@ -141,17 +147,16 @@ def run(toplevel, test_module, name, *, parameters=None, testcase=None,
     """seed_name: the run whose shared seed (seed_of) this one takes, for a
     run that has a twin on the other simulator; None: the runner's own
     (COCOTB_RANDOM_SEED, else a random one). design: the sources of the
-    design instead of rtl/ (a netlist and its cell models; Icarus only),
-    defines: Verilog macros for the build (Icarus only)."""
+    design instead of rtl/ (a netlist and its cell models), defines: Verilog
+    macros for the build."""
     # tb_line.v (the simulated line) serves every test-bench top; a design
     # given goes last, so a `timescale of its cell models sets no bench file's
     sources = [*(() if design else rtl_sources()), TB_DIR / "tb_line.v",
                *(TB_DIR / s for s in tb_sources), *(design or ())]
-    assert sim == "icarus" or not (design or defines), "netlists run on Icarus"
     test_dir = ROOT / "build" / "sim" / name
     if sim == "verilator":
         runner = get_runner("verilator")
-        build_dir = _build_verilator(runner, toplevel, sources, parameters or {})
+        build_dir = _build_verilator(runner, toplevel, sources, parameters or {}, defines, design)
         test_dir.mkdir(parents=True, exist_ok=True)
     else:
         build_dir = test_dir
