@@ -67,14 +67,16 @@ lint: deps
 	        -GCLK_HZ=$${cfg%%:*} -GCHANNELS=$${cfg#*:}; \
 	done
 	@mkdir -p build/lint
-	@set -e; for top in twh_wb twh_axil twh_engine; do \
-	    echo "yosys: synth_ice40 $$top"; \
-	    yosys -q -l build/lint/yosys_$$top.log -p "read_verilog -Irtl $(RTL); synth_ice40 -top $$top; check -assert" >/dev/null; \
-	    ! grep -E "^Warning" build/lint/yosys_$$top.log || (echo "yosys warnings above" && false); \
+	@# the four Yosys checks two at a time (each is one process), each into
+	@# its log; a failed run stops at its wait, a warning at the grep after
+	@set -e; run() { yosys -q -l build/lint/yosys_$$1.log -p "read_verilog -Irtl $(RTL); $$2 synth_ice40 -top $$3; check -assert" >/dev/null; }; \
+	echo "yosys: synth_ice40 twh_wb, twh_axil"; \
+	run twh_wb "" twh_wb & p1=$$!; run twh_axil "" twh_axil & p2=$$!; wait $$p1; wait $$p2; \
+	echo "yosys: synth_ice40 twh_engine, twh_wb ENGINE=0"; \
+	run twh_engine "" twh_engine & p1=$$!; run twh_wb_engine0 "chparam -set ENGINE 0 -set CHANNELS 3 twh_wb;" twh_wb & p2=$$!; wait $$p1; wait $$p2; \
+	for log in twh_wb twh_axil twh_engine twh_wb_engine0; do \
+	    ! grep -E "^Warning" build/lint/yosys_$$log.log || (echo "yosys warnings above ($$log)" && false); \
 	done
-	@echo "yosys: synth_ice40 twh_wb ENGINE=0"
-	@yosys -q -l build/lint/yosys_twh_wb_engine0.log -p "read_verilog -Irtl $(RTL); chparam -set ENGINE 0 -set CHANNELS 3 twh_wb; synth_ice40 -top twh_wb; check -assert" >/dev/null
-	@! grep -E "^Warning" build/lint/yosys_twh_wb_engine0.log || (echo "yosys warnings above" && false)
 	@echo "lint clean"
 
 # --maxschedchunk=1: a core that is free takes the next test (the long ones
