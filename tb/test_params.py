@@ -72,8 +72,8 @@ ERROR = {
     "ENGINE": f"twh_error_ENGINE_must_be_0_or_{_localparam(CORE_V, 'ENGINE_MAX')}",
 }
 
-# the time-shared engine (issue 34, docs/engine.md; not yet behind the bus
-# tops): its channel range, its clock floor (which grows with CHANNELS) and
+# the time-shared engine on its own (issue 34, docs/engine.md; the bus tops'
+# floor error is test_core_engine_floor's, below): its channel range, its clock floor (which grows with CHANNELS) and
 # its queue depth
 ENGINE_ERROR = {
     "CHANNELS": f"twh_error_CHANNELS_must_be_{ECH_MIN}_to_{ECH_MAX}",

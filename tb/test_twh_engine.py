@@ -366,8 +366,8 @@ def _run(channels, clk_hz, testcase, sim):
         tb_sources=["tb_engine.v"], sim=sim)
 
 
-# All in make test-slow, which CI runs (the engine is not yet in the core,
-# and make test is at its 5 minutes): the seven cases at 3 channels at the
+# All in make test-slow, which CI runs (make test is at its 5 minutes, and
+# runs the engine through the bus core's cases, tb/test_twh_core.py): the seven cases at 3 channels at the
 # 4 MHz floor and a 32-cell rig at its 32 MHz floor (each cell's identity,
 # and its faults) and 16 channels at their 16 MHz floor, on Verilator; two
 # of the cases on Icarus (the same bench on the other simulator).
