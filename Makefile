@@ -46,7 +46,7 @@ lint: deps
 	    echo "verilator -Wall twh_link CLK_HZ=$$clk"; \
 	    verilator --lint-only -Wall -Irtl $(RTL) --top-module twh_link -GCLK_HZ=$$clk; \
 	done
-	@set -e; for top in twh_wb twh_axil; do for ch in 1 3 8; do \
+	@set -e; for top in twh_wb twh_axil; do for ch in 1 3 8 16 32; do \
 	    echo "verilator -Wall $$top CHANNELS=$$ch"; \
 	    verilator --lint-only -Wall -Irtl $(RTL) --top-module $$top -GCHANNELS=$$ch; \
 	done; done

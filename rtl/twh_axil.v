@@ -12,7 +12,7 @@ module twh_axil #(
 ) (
     input  wire                clk,
     input  wire                rst,
-    input  wire [8:0]          s_axil_awaddr,
+    input  wire [10:0]         s_axil_awaddr,
     input  wire [2:0]          s_axil_awprot,
     input  wire                s_axil_awvalid,
     output wire                s_axil_awready,
@@ -23,7 +23,7 @@ module twh_axil #(
     output reg  [1:0]          s_axil_bresp,
     output reg                 s_axil_bvalid,
     input  wire                s_axil_bready,
-    input  wire [8:0]          s_axil_araddr,
+    input  wire [10:0]         s_axil_araddr,
     input  wire [2:0]          s_axil_arprot,
     input  wire                s_axil_arvalid,
     output wire                s_axil_arready,

@@ -49,7 +49,7 @@ module twh_core #(
     // register port
     input  wire                reg_req,
     input  wire                reg_we,
-    input  wire [8:0]          reg_addr,
+    input  wire [10:0]         reg_addr,
     input  wire [31:0]         reg_wdata,
     input  wire [3:0]          reg_wstrb,
     output reg                 reg_ack,
@@ -69,7 +69,8 @@ module twh_core #(
     // localparams and its module's name: change both together
     // (tb/test_params.py reads them and checks that they agree).
     localparam integer CHANNELS_MIN   = 1;
-    localparam integer CHANNELS_MAX   = 8;
+    localparam integer CHANNELS_MAX   = 32;
+    localparam integer CHANNELS_ENGINE0_MAX = 8;    // ENGINE = 0: 1-8
     localparam integer FIFO_DEPTH_MIN = 2;      // and a power of two
     localparam integer FIFO_DEPTH_MAX = 2048;
     localparam integer ENGINE_MAX     = 1;      // ENGINE: 0 or 1
@@ -77,9 +78,12 @@ module twh_core #(
     localparam FIFO_DEPTH_OK = FIFO_DEPTH >= FIFO_DEPTH_MIN && FIFO_DEPTH <= FIFO_DEPTH_MAX &&
                                (FIFO_DEPTH & (FIFO_DEPTH - 1)) == 0;
     localparam ENGINE_OK     = ENGINE >= 0 && ENGINE <= ENGINE_MAX;
+    localparam CHANNELS_ENGINE0_OK = ENGINE != 0 || CHANNELS <= CHANNELS_ENGINE0_MAX;
     generate
         if (!CHANNELS_OK) begin : g_bad_channels
-            twh_error_CHANNELS_must_be_1_to_8 u_err ();
+            twh_error_CHANNELS_must_be_1_to_32 u_err ();
+        end else if (!CHANNELS_ENGINE0_OK) begin : g_bad_channels0
+            twh_error_CHANNELS_must_be_1_to_8_with_ENGINE_0 u_err ();
         end
         if (!FIFO_DEPTH_OK) begin : g_bad_depth
             twh_error_FIFO_DEPTH_must_be_a_power_of_two_2_to_2048 u_err ();
@@ -91,12 +95,12 @@ module twh_core #(
     // What the submodules are built with: the parameter, or after a failed
     // check a legal stand-in, so that no tool breaks on the bad value (a
     // memory or index out of range) before it reports the missing module.
-    localparam integer CH_N    = CHANNELS_OK ? CHANNELS : 1;
+    localparam integer CH_N    = (CHANNELS_OK && CHANNELS_ENGINE0_OK) ? CHANNELS : 1;
     localparam integer DEPTH_N = FIFO_DEPTH_OK ? FIFO_DEPTH : 16;
     localparam integer ENGINE_N = ENGINE_OK ? ENGINE : 1;
 
     localparam integer LW = $clog2(DEPTH_N + 1);
-    localparam [3:0]  CH_COUNT = CHANNELS[3:0];
+    localparam [5:0]  CH_COUNT = CHANNELS[5:0];
     localparam [11:0] DEPTH12  = FIFO_DEPTH[11:0];
     localparam integer CLK_KHZ_I = CLK_HZ / 1000;
     localparam [19:0] CLK_KHZ  = CLK_KHZ_I[19:0];
@@ -162,20 +166,26 @@ module twh_core #(
 
     // The address is decoded on the way in too: one flag per register that
     // a write or a read changes something in, and whether it is mapped.
-    localparam [3:0] R_ID = 4'd0, R_VERSION = 4'd1, R_PARAMS = 4'd2, R_CTRL = 4'd3,
-                     R_STATUS = 4'd4, R_LEVELS = 4'd5, R_ERRORS = 4'd6, R_IRQ_EN = 4'd7,
-                     R_IRQ_STATUS = 4'd8, R_POLL_READY = 4'd9, R_CMD_PUSH = 4'd10,
-                     R_RES_INFO = 4'd11, R_RES_POP = 4'd12, R_LAB_KEY = 4'd13,
-                     R_FACTORY_KEY = 4'd14;
-    wire       i_is_ch  = (reg_addr[8:6] != 3'd0);
-    wire [3:0] i_blk    = reg_addr[8:5] - 4'd2;
+    // Global registers are words 0-31 (0x000-0x07C), channel n's block is
+    // at 0x80 + 0x20 * n (n < 32) and its register k at + 4 * k.
+    localparam [4:0] R_ID = 5'd0, R_VERSION = 5'd1, R_PARAMS = 5'd2, R_CTRL = 5'd3,
+                     R_STATUS = 5'd4, R_LEVELS = 5'd5, R_ERRORS = 5'd6, R_IRQ_EN = 5'd7,
+                     R_IRQ_STATUS = 5'd8, R_POLL_READY = 5'd9,
+                     R_RES_INFO = 5'd11, R_RES_POP = 5'd12, R_LAB_KEY = 5'd13,
+                     R_FACTORY_KEY = 5'd14, R_IDLE_CHARGE = 5'd15, R_BUSY = 5'd16;
+    localparam [2:0] C_CMD_PUSH = 3'd6;         // a channel block's CMD_PUSH
+    wire       i_is_ch  = (reg_addr[10:7] != 4'd0);
+    wire [5:0] i_blk    = reg_addr[10:5] - 6'd4;
     wire       i_ch_ok  = i_is_ch && (i_blk < CH_COUNT);
-    wire [3:0] i_g      = reg_addr[5:2];
+    wire [4:0] i_g      = reg_addr[6:2];
     // a full-word write, a read, a read of a global register: of the
     // request on the port, when there is one (the strobes below)
     wire       i_wr     = reg_we && (reg_wstrb == 4'hF);
     wire       i_rd     = !reg_we;
     wire       i_grd    = !reg_we && !i_is_ch;
+    // a CMD_PUSH write in the channel array (CH[0] to CH[31]), the channel
+    // present or not (an absent one's is BAD_CHANNEL)
+    wire       i_push   = i_wr && i_is_ch && !i_blk[5] && reg_addr[4:2] == C_CMD_PUSH;
     integer    i_n;
     // The request's data loads only around a request (this one, or the
     // clock after one); between requests its strobes are 0 and the data is
@@ -190,7 +200,7 @@ module twh_core #(
     // result FIFO is not empty" too (q_pop is RES_POP's pop).
     reg        q_r_id, q_r_version, q_r_params, q_r_ctrl, q_r_status, q_r_levels,
                q_r_errors, q_r_irq_en, q_r_irq_status, q_r_poll_ready, q_r_res_info,
-               q_r_res_pop;
+               q_r_res_pop, q_r_idle, q_r_busy;
     // channel n's register 3 + k (POLL_CTRL, POLL_RESULT, STATE) read: one
     // flag per pair, so each term of the read is one select and one
     // register bit; TIMING0-2 of every channel come from twh_timing (q_r_t)
@@ -210,11 +220,12 @@ module twh_core #(
     reg [3:0]  q_cmp;            // i_cmp of the request: stored with a timing value
     reg        q_wp;             // POLL_CTRL of an existing channel addressed
     reg [CHANNELS-1:0] q_ch;     // a write to this channel's block (one-hot)
-    reg        q_ctrl, q_flush, q_errors, q_irq_en, q_poll_ready, q_push, q_pop, q_lab_key, q_fact_key;
+    reg        q_ctrl, q_flush, q_errors, q_irq_en, q_poll_ready, q_push, q_pop, q_lab_key, q_fact_key,
+               q_idle;
     reg        q_push_ch;        // q_push naming an existing channel: the FIFO's push
                                  // waits for the full flag alone (ECP5's critical path)
-    reg [8:0]  q_addr;
-    reg [2:0]  q_blk;            // q_addr[8:5] - 2: the channel block, taken on the
+    reg [10:0] q_addr;
+    reg [4:0]  q_blk;            // q_addr[10:5] - 4: the channel block, taken on the
                                  // way in (the subtraction was in front of the bus
                                  // copy's LUT RAM read address, ECP5's path)
     reg [31:0] q_wdata;
@@ -224,7 +235,7 @@ module twh_core #(
         q_we       <= reg_we;
         q_full     <= (reg_wstrb == 4'hF);
         q_addr     <= reg_addr;
-        q_blk      <= i_blk[2:0];
+        q_blk      <= i_blk[4:0];
         q_wdata    <= reg_wdata;
         q_cmp      <= i_cmp;
         q_cmp_nz   <= (i_cmp != 4'd0);
@@ -232,8 +243,9 @@ module twh_core #(
         q_key_lab  <= (reg_wdata == `TWH_LAB_KEY);
         q_key_fact <= (reg_wdata == `TWH_FACTORY_KEY);
         q_factory  <= i_factory;
-        q_bad_ch   <= {1'b0, reg_wdata[26:24]} >= CH_COUNT;
-        q_mapped   <= i_is_ch ? (i_ch_ok && reg_addr[4:2] <= 3'd5) : (i_g != 4'd15);
+        q_bad_ch   <= !i_ch_ok;
+        q_mapped   <= i_is_ch ? (i_ch_ok && reg_addr[4:2] <= 3'd6)
+                              : (i_g <= R_BUSY && i_g != 5'd10);
         q_wp       <= i_ch_ok && reg_addr[4:2] == 3'd3;
     end
     // Its strobes and read selects: the address decoded as if a request
@@ -250,7 +262,7 @@ module twh_core #(
             q_r_id <= 1'b0; q_r_version <= 1'b0; q_r_params <= 1'b0; q_r_ctrl <= 1'b0;
             q_r_status <= 1'b0; q_r_levels <= 1'b0; q_r_errors <= 1'b0; q_r_irq_en <= 1'b0;
             q_r_irq_status <= 1'b0; q_r_poll_ready <= 1'b0; q_r_res_info <= 1'b0;
-            q_r_res_pop <= 1'b0;
+            q_r_res_pop <= 1'b0; q_r_idle <= 1'b0; q_r_busy <= 1'b0; q_idle <= 1'b0;
             q_ctrl <= 1'b0; q_flush <= 1'b0; q_errors <= 1'b0; q_irq_en <= 1'b0;
             q_poll_ready <= 1'b0; q_push <= 1'b0; q_push_ch <= 1'b0; q_pop <= 1'b0;
             q_lab_key <= 1'b0; q_fact_key <= 1'b0;
@@ -264,14 +276,14 @@ module twh_core #(
             q_r_pr     <= i_rd && i_ch_ok && reg_addr[4:2] == 3'd4 && ENGINE_N != 0;
             q_ref_p    <= i_wr && i_ch_ok && reg_addr[4:2] == 3'd3 && !i_win_p;
             for (i_n = 0; i_n < CHANNELS; i_n = i_n + 1) begin
-                q_ch[i_n] <= i_wr && (i_blk[2:0] == i_n[2:0]);
+                q_ch[i_n] <= i_wr && (i_blk[4:0] == i_n[4:0]);
                 // (an AND per select, no choice with a 0 arm: Yosys would
                 // have folded that into the reset, behind the port's strobe)
-                q_r_cr[i_n*3 + 0] <= i_rd && i_ch_ok && i_blk[2:0] == i_n[2:0] && ENGINE_N == 0 &&
+                q_r_cr[i_n*3 + 0] <= i_rd && i_ch_ok && i_blk[4:0] == i_n[4:0] && ENGINE_N == 0 &&
                                      reg_addr[4:2] == 3'd3;
-                q_r_cr[i_n*3 + 1] <= i_rd && i_ch_ok && i_blk[2:0] == i_n[2:0] && ENGINE_N == 0 &&
+                q_r_cr[i_n*3 + 1] <= i_rd && i_ch_ok && i_blk[4:0] == i_n[4:0] && ENGINE_N == 0 &&
                                      reg_addr[4:2] == 3'd4;
-                q_r_cr[i_n*3 + 2] <= i_rd && i_ch_ok && i_blk[2:0] == i_n[2:0] &&
+                q_r_cr[i_n*3 + 2] <= i_rd && i_ch_ok && i_blk[4:0] == i_n[4:0] &&
                                      reg_addr[4:2] == 3'd5;
             end
             q_r_id         <= i_grd && i_g == R_ID;
@@ -284,6 +296,8 @@ module twh_core #(
             q_r_irq_en     <= i_grd && i_g == R_IRQ_EN;
             q_r_irq_status <= i_grd && i_g == R_IRQ_STATUS;
             q_r_poll_ready <= i_grd && i_g == R_POLL_READY;
+            q_r_idle       <= i_grd && i_g == R_IDLE_CHARGE;
+            q_r_busy       <= i_grd && i_g == R_BUSY;
             // masked on the way in by "not empty" as the FIFO will be when
             // the read is carried out (an empty FIFO's fields read zero), so
             // neither the empty flag nor its AND is on the read path
@@ -295,9 +309,9 @@ module twh_core #(
             q_errors     <= i_wr && !i_is_ch && i_g == R_ERRORS;
             q_irq_en     <= i_wr && !i_is_ch && i_g == R_IRQ_EN;
             q_poll_ready <= i_wr && !i_is_ch && i_g == R_POLL_READY;
-            q_push       <= i_wr && !i_is_ch && i_g == R_CMD_PUSH;
-            q_push_ch    <= i_wr && !i_is_ch && i_g == R_CMD_PUSH &&
-                            ({1'b0, reg_wdata[26:24]} < CH_COUNT);
+            q_idle       <= i_wr && !i_is_ch && i_g == R_IDLE_CHARGE;
+            q_push       <= i_push;
+            q_push_ch    <= i_push && i_ch_ok;
             q_pop        <= i_grd && i_g == R_RES_POP;
             q_lab_key    <= i_wr && !i_is_ch && i_g == R_LAB_KEY;
             q_fact_key   <= i_wr && !i_is_ch && i_g == R_FACTORY_KEY;
@@ -308,12 +322,12 @@ module twh_core #(
     // The request's address decoded again, for the proofs only: every flag
     // of the request stage is proven equal to this decode of q_addr.
     // verilator lint_off UNUSEDSIGNAL
-    wire       is_ch     = (q_addr[8:6] != 3'd0);             // 0x40 and up
-    wire [3:0] ch_blk    = q_addr[8:5] - 4'd2;                // channel block
-    wire [2:0] ch_sel    = ch_blk[2:0];
+    wire       is_ch     = (q_addr[10:7] != 4'd0);            // 0x80 and up
+    wire [5:0] ch_blk    = q_addr[10:5] - 6'd4;               // channel block
+    wire [4:0] ch_sel    = ch_blk[4:0];
     wire [2:0] ch_reg    = q_addr[4:2];
-    wire       ch_exists = is_ch && (ch_blk < CH_COUNT) && (ch_reg <= 3'd5);
-    wire [3:0] g_reg     = q_addr[5:2];
+    wire       ch_exists = is_ch && (ch_blk < CH_COUNT) && (ch_reg <= 3'd6);
+    wire [4:0] g_reg     = q_addr[6:2];
     // verilator lint_on UNUSEDSIGNAL
     wire       full_word = q_full;
     // verilator lint_off UNUSEDSIGNAL
@@ -331,14 +345,15 @@ module twh_core #(
     // the subtraction (it was ECP5's critical path)
     wire       flush_new_nz = dispatch ? (cmd_level != {{(LW-1){1'b0}}, 1'b1})
                                        : (cmd_level != {LW{1'b0}});
-    reg [7:0]  idle_charge;
+    reg [CH_N-1:0] idle_charge;
     reg        ie_result, ie_error, ie_poll;
     reg [7:0]  res_threshold;
     reg        err_overflow, err_refused, err_blocked, err_bad_channel, err_link;
-    reg [7:0]  poll_ready;
+    reg [CH_N-1:0] poll_ready;
 
     // ------------------------------------------------------------ command FIFO
-    // entry: {blocked, tag[4:0], channel[2:0], payload[15:0], cmd[7:0]}
+    // entry: {blocked, tag[4:0], channel[4:0], payload[15:0], cmd[7:0]}
+    // (the channel from the CMD_PUSH's address)
     // The factory-area verdict is taken on the way in, from the bus data, so
     // the FIFO's RAM output drives no comparator on its way to the slot.
     wire        push_req  = q_push;
@@ -348,20 +363,20 @@ module twh_core #(
     // verilator lint_on UNUSEDSIGNAL
     wire        cmd_vacant;           // no command queued (STATUS.CMD_EMPTY)
     wire [LW-1:0] cmd_level;
-    wire [32:0] cmd_head;
-    wire        push_bad_ch = q_bad_ch;      // the pushed word names no channel
+    wire [34:0] cmd_head;
+    wire        push_bad_ch = q_bad_ch;      // the push is to an absent channel
     wire        push_ok   = q_push_ch && !cmd_full;
 
     wire        p_blocked = q_factory && !factory_armed;
 
     wire [7:0]  h_cmd     = cmd_head[7:0];
     wire [15:0] h_payload = cmd_head[23:8];
-    wire [2:0]  h_ch      = cmd_head[26:24];
-    wire [4:0]  h_tag     = cmd_head[31:27];
-    wire        h_blocked = cmd_head[32];
+    wire [4:0]  h_ch      = cmd_head[28:24];
+    wire [4:0]  h_tag     = cmd_head[33:29];
+    wire        h_blocked = cmd_head[34];
 
     wire [CHANNELS-1:0] slot_full;
-    wire [7:0] slot_full8;
+    wire [31:0] slot_full8;          // (padded to the map's 32 channels)
     // the head's channel can take it: its slot is empty (ENGINE 0), its
     // queue not full (ENGINE 1; slot_full8 holds the queues' full flags)
     wire h_slot_free = !slot_full8[h_ch];
@@ -369,7 +384,7 @@ module twh_core #(
     // FIFO's RAM output (slow on iCE40), the pop and slot load then start
     // from a flip-flop. The head and its slot cannot change in between.
     reg  dispatch;
-    reg  [2:0] disp_ch;
+    reg  [4:0] disp_ch;
     reg        disp_blk;     // h_blocked, taken with the decision like disp_ch
                              // (the RAM output was HX8K's path into BLOCKED)
     always @(posedge clk) begin
@@ -386,15 +401,15 @@ module twh_core #(
     wire [3:0] h_skip = (flushing || flush_wr) ? `TWH_ST_CANCELLED :
                         disp_blk               ? `TWH_ST_BLOCKED : 4'd0;
 
-    twh_fifo #(.W(33), .DEPTH(DEPTH_N)) u_cmd_fifo (
+    twh_fifo #(.W(35), .DEPTH(DEPTH_N)) u_cmd_fifo (
         .clk(clk), .rst(rst),
-        .push(push_ok), .din({p_blocked, q_wdata}), .full(cmd_full),
+        .push(push_ok), .din({p_blocked, q_wdata[28:24], q_blk, q_wdata[23:0]}), .full(cmd_full),
         .pop(dispatch), .dout(cmd_head), .empty(cmd_empty), .valid_next(cmd_valid_next),
         .level(cmd_level), .vacant(cmd_vacant)
     );
 
     // ------------------------------------------------------------ result FIFO
-    // entry: {tag[4:0], channel[2:0], status[3:0], cmd[7:0], data[15:0]}
+    // entry: {tag[4:0], channel[4:0], status[3:0], cmd[7:0], data[15:0]}
     wire [CHANNELS-1:0] c_res_valid;
     wire [CHANNELS*8-1:0]  c_res_cmd;
     wire [CHANNELS*16-1:0] c_res_data;
@@ -408,8 +423,8 @@ module twh_core #(
     // verilator lint_on UNUSEDSIGNAL
     wire res_vacant;          // no result queued (STATUS.RES_EMPTY)
     wire [LW-1:0] res_level;
-    wire [35:0] res_head;
-    wire [7:0] c_res_valid8;
+    wire [37:0] res_head;
+    wire [7:0] c_res_valid8;         // ENGINE = 0's scan (up to 8 channels)
     // scan_v: the channel the scan offers has a result, a flip-flop taken a
     // clock ahead for the scan's next position (a result stays offered until
     // it is taken, and only a push takes it), so the push waits only for
@@ -422,18 +437,18 @@ module twh_core #(
     // what goes into the result FIFO: the scan's channel (ENGINE 0) or the
     // engine's result register (ENGINE 1)
     wire        e_res_valid;
-    wire [35:0] e_res;
+    wire [37:0] e_res;
     wire        e_cancelling;     // ENGINE 1: a flush's cancels are left in the queues
     wire [31:0] p_rdata;          // ENGINE 1: the answer of a POLL_CTRL / POLL_RESULT read
     wire res_push = (ENGINE_N != 0 ? e_res_valid : scan_v) && !res_full;
     wire [3:0] push_status = ENGINE_N != 0 ? e_res[27:24] : c_res_status[scan*4 +: 4];
     wire pop_req = q_pop;
 
-    twh_fifo #(.W(36), .DEPTH(DEPTH_N)) u_res_fifo (
+    twh_fifo #(.W(38), .DEPTH(DEPTH_N)) u_res_fifo (
         .clk(clk), .rst(rst),
         .push(res_push),
         .din(ENGINE_N != 0 ? e_res :
-             {c_res_tag[scan*5 +: 5], scan, push_status,
+             {c_res_tag[scan*5 +: 5], 2'd0, scan, push_status,
               c_res_cmd[scan*8 +: 8], c_res_data[scan*16 +: 16]}),
         .full(res_full),
         .pop(pop_req), .dout(res_head), .empty(res_empty), .valid_next(res_valid_next),
@@ -468,6 +483,7 @@ module twh_core #(
     wire [CHANNELS-1:0] t_dur_we;
     wire [15:0] t_dur;
     wire [2:0]  t_dur_fld;
+    wire [4:0]  t_dur_ch;
     // twh_timing is written and read by the request stage, like every other
     // register (a read and a write are never in it together); its word
     // comes out of the block RAM's register in the answer's clock
@@ -478,7 +494,8 @@ module twh_core #(
         .wr(t_wr), .wr_ch(q_blk), .wr_reg(q_treg),
         .wr_data(q_wdata), .wr_cmp(q_cmp),
         .rd_ch(q_blk), .rd_reg(q_treg), .rd_data(t_rdata),
-        .nx_fld(c_nx_fld), .dur_we(t_dur_we), .dur(t_dur), .dur_fld(t_dur_fld)
+        .nx_fld(c_nx_fld), .dur_we(t_dur_we), .dur_ch(t_dur_ch), .dur(t_dur),
+        .dur_fld(t_dur_fld)
     );
 
     genvar n;
@@ -489,8 +506,8 @@ module twh_core #(
                 .enable(enable), .idle_charge(idle_charge[CH_N-1:0]),
                 .wdata(q_wdata), .pc_wr(q_wp && wr && q_win_p), .rd_ctrl(q_r_pc),
                 .rd_res(q_r_pr), .reg_ch(q_blk), .rd_data(p_rdata),
-                .nx_fld(c_nx_fld), .dur_we(t_dur_we), .dur(t_dur), .dur_fld(t_dur_fld),
-                .state(c_st), .poll_sample(c_sample), .poll_error(c_poll_err[0]),
+                .nx_fld(c_nx_fld), .dur_we(t_dur_we), .dur_ch(t_dur_ch), .dur(t_dur),
+                .dur_fld(t_dur_fld), .state(c_st), .poll_sample(c_sample), .poll_error(c_poll_err[0]),
                 .cmd_valid(dispatch), .cmd_ch(disp_ch), .cmd_code(h_cmd),
                 .cmd_payload(h_payload), .cmd_tag(h_tag), .cmd_skip(h_skip),
                 .cancel(flush_wr), .full(slot_full), .cancelling(e_cancelling),
@@ -517,12 +534,12 @@ module twh_core #(
             // verilator lint_on UNUSEDSIGNAL
         end else begin : g_channels
             assign e_res_valid = 1'b0;
-            assign e_res = 36'd0;
+            assign e_res = 38'd0;
             assign e_cancelling = 1'b0;
             assign p_rdata = 32'd0;
             // (the channels' own registers answer POLL_CTRL / POLL_RESULT)
             // verilator lint_off UNUSEDSIGNAL
-            wire unused_r_p = q_r_pc | q_r_pr;
+            wire unused_r_p = q_r_pc | q_r_pr | ^t_dur_ch;
             // verilator lint_on UNUSEDSIGNAL
         for (n = 0; n < CHANNELS; n = n + 1) begin : g_ch
             wire sel = q_ch[n];
@@ -553,22 +570,33 @@ module twh_core #(
         end
     endgenerate
 
-    // per-channel bits widened to the 8 channels of the register map
+    // per-channel bits widened to the 32 channels of the register map (the
+    // results' scan of ENGINE = 0: to its 8)
     generate
-        for (n = 0; n < 8; n = n + 1) begin : g_pad
+        for (n = 0; n < 32; n = n + 1) begin : g_pad
             if (n < CHANNELS) begin : g_on
                 assign slot_full8[n]   = slot_full[n];
-                assign c_res_valid8[n] = c_res_valid[n];
-                assign sample8[n]      = c_sample[n];
                 // queued (slot), running (engine), or its result waiting
                 // for the result FIFO
                 assign busy8[n]        = c_sbusy[n];
             end else begin : g_off
                 assign slot_full8[n]   = 1'b0;
-                assign c_res_valid8[n] = 1'b0;
-                assign sample8[n]      = 1'b0;
                 assign busy8[n]        = 1'b0;
             end
+        end
+        for (n = 0; n < 8; n = n + 1) begin : g_pad8
+            if (n < CHANNELS) begin : g_on
+                assign c_res_valid8[n] = c_res_valid[n];
+            end else begin : g_off
+                assign c_res_valid8[n] = 1'b0;
+            end
+        end
+        if (CHANNELS > 8) begin : g_valid_hi
+            // (ENGINE = 0 stops at 8 channels; the engine's results come
+            // from its result register)
+            // verilator lint_off UNUSEDSIGNAL
+            wire unused_valid_hi = |c_res_valid[CHANNELS-1:8];
+            // verilator lint_on UNUSEDSIGNAL
         end
     endgenerate
 
@@ -586,7 +614,7 @@ module twh_core #(
     always @(posedge clk)
         push_link_err <= !rst && res_push && (push_status >= `TWH_ST_BAD_CHECKSUM) &&
                          (push_status <= `TWH_ST_LINE_STUCK_HIGH);
-    wire [7:0] sample8, busy8;
+    wire [31:0] busy8;               // per channel, padded to 32
 
     // Each register loads on its own strobes, with no shared "anything to
     // do" guard in front of them all (that was a wide OR on every one of
@@ -600,7 +628,7 @@ module twh_core #(
         disp_blk_err <= !rst && dispatch && disp_blk && !flushing && !flush_wr;
         if (rst) begin
             enable          <= 1'b1;
-            idle_charge     <= 8'd0;
+            idle_charge     <= {CH_N{1'b0}};
             flush_left      <= {LW{1'b0}};
             flushing        <= 1'b0;
             ie_result       <= 1'b0;
@@ -614,12 +642,10 @@ module twh_core #(
             err_blocked     <= 1'b0;
             err_bad_channel <= 1'b0;
             err_link        <= 1'b0;
-            poll_ready      <= 8'd0;
+            poll_ready      <= {CH_N{1'b0}};
         end else begin
-            if (q_ctrl) begin
-                enable      <= q_wdata[0];
-                idle_charge <= q_wdata[15:8];
-            end
+            if (q_ctrl) enable <= q_wdata[0];
+            if (q_idle) idle_charge <= q_wdata[CH_N-1:0];
             // A flush cancels exactly the commands queued when it is
             // written; commands pushed after it run normally.
             if (q_flush) begin
@@ -651,8 +677,8 @@ module twh_core #(
                 err_bad_channel <= push_req && push_bad_ch;
             if ((q_errors && q_wdata[4]) || push_link_err || |c_poll_err)
                 err_link        <= push_link_err || |c_poll_err;
-            if (q_poll_ready || sample8 != 0)
-                poll_ready <= (q_poll_ready ? (poll_ready & ~q_wdata[7:0]) : poll_ready) | sample8;
+            if (q_poll_ready || c_sample != 0)
+                poll_ready <= (q_poll_ready ? (poll_ready & ~q_wdata[CH_N-1:0]) : poll_ready) | c_sample;
         end
     end
 
@@ -672,7 +698,15 @@ module twh_core #(
     // every result pushed has been read)
     wire        st_cmd_empty = cmd_vacant;
     wire        st_res_empty = res_vacant;
-    wire        src_poll   = (poll_ready != 8'd0);
+    wire        src_poll   = (poll_ready != {CH_N{1'b0}});
+    // (widened through a vector with room to spare: no zero replication
+    // at 32 channels)
+    // verilator lint_off UNUSEDSIGNAL
+    wire [CH_N+31:0] poll_ready_w  = {32'd0, poll_ready};
+    wire [CH_N+31:0] idle_charge_w = {32'd0, idle_charge};
+    // verilator lint_on UNUSEDSIGNAL
+    wire [31:0] poll_ready32  = poll_ready_w[31:0];
+    wire [31:0] idle_charge32 = idle_charge_w[31:0];
     assign irq = (ie_result && src_result) || (ie_error && src_error) || (ie_poll && src_poll);
 
     // An empty FIFO's output register holds stale data: its fields read
@@ -681,20 +715,23 @@ module twh_core #(
     wire        r_res_pop  = q_r_res_pop;
     wire [31:0] g_rdata =
           ({32{q_r_id}}         & `TWH_MAGIC)
-        | ({32{q_r_version}}    & {factory_armed, lab, 8'd0, NO_POLLING, FIXED_TIMING, CH_COUNT,
-                                   `TWH_VERSION_MAJOR, `TWH_VERSION_MINOR})
+        | ({32{q_r_version}}    & {factory_armed, lab, CH_COUNT, 2'd0, NO_POLLING, FIXED_TIMING,
+                                   4'd0, `TWH_VERSION_MAJOR, `TWH_VERSION_MINOR})
         | ({32{q_r_params}}     & {CLK_KHZ, DEPTH12})
-        | ({32{q_r_ctrl}}       & {16'd0, idle_charge, 7'd0, enable})
+        | ({32{q_r_ctrl}}       & {31'd0, enable})
         | ({32{q_r_status}}     & {19'd0, flushing || e_cancelling, st_res_empty, res_full, st_cmd_empty,
-                                   cmd_full, busy8})
+                                   cmd_full, 8'd0})
         | ({32{q_r_levels}}     & {res_level16, cmd_level16})
         | ({32{q_r_errors}}     & {27'd0, errors})
         | ({32{q_r_irq_en}}     & {16'd0, res_threshold, 5'd0, ie_poll, ie_error, ie_result})
         | ({32{q_r_irq_status}} & {29'd0, src_poll, src_error, src_result})
-        | ({32{q_r_poll_ready}} & {24'd0, poll_ready})
-        | ({32{r_res_info}}     & {11'd0, res_head[35:31], 1'b1, res_head[30:28],
+        | ({32{q_r_poll_ready}} & poll_ready32)
+        | ({32{q_r_idle}}       & idle_charge32)
+        | ({32{q_r_busy}}       & busy8)
+        // res_head: {tag 37:33, channel 32:28, status 27:24, cmd 23:16, data 15:0}
+        | ({32{r_res_info}}     & {3'd0, res_head[32:28], 3'd0, res_head[37:33], 1'b1, 3'd0,
                                    res_head[27:24], res_head[23:16]})
-        | ({32{r_res_pop}}      & {3'd0, res_head[35:31], 1'b1, res_head[30:28],
+        | ({32{r_res_pop}}      & {1'b0, res_head[37:33], 1'b1, res_head[32:28],
                                    res_head[27:24], res_head[15:0]});
 
     reg [31:0] c_rdata;
@@ -769,9 +806,9 @@ module twh_core #(
         assert({q_wr, q_rd, q_wr_t, q_r_t, q_ref_p, q_ch, q_r_cr, q_r_pc, q_r_pr} == 0);
         assert({q_r_id, q_r_version, q_r_params, q_r_ctrl, q_r_status, q_r_levels,
                 q_r_errors, q_r_irq_en, q_r_irq_status, q_r_poll_ready, q_r_res_info,
-                q_r_res_pop} == 0);
+                q_r_res_pop, q_r_idle, q_r_busy} == 0);
         assert({q_ctrl, q_flush, q_errors, q_irq_en, q_poll_ready, q_push, q_push_ch,
-                q_pop, q_lab_key, q_fact_key} == 0);
+                q_pop, q_lab_key, q_fact_key, q_idle} == 0);
     end
     always @(*) if (f_rs && !reg_ack) assert(rdata_q == 32'd0 && rdata_c_q == 32'd0 && !t_rd_q);
     wire [15:0] f_lo = q_wdata[15:0], f_hi = q_wdata[31:16];
@@ -810,25 +847,28 @@ module twh_core #(
             // the decode taken on the way in is that of the request's own
             // address and data
             assert(q_wr == (q_req && q_we && q_full) && q_rd == (q_req && !q_we));
-            assert(q_mapped == ((!is_ch && g_reg != 4'd15) || ch_exists));
+            assert(q_mapped == ((!is_ch && g_reg <= 5'd16 && g_reg != 5'd10) || ch_exists));
             assert(q_wp == (ch_exists && ch_reg == 3'd3));
             if (q_wp || q_wr_t)
                 assert(q_ch == (wr ? {{(CHANNELS-1){1'b0}}, 1'b1} << ch_sel : {CHANNELS{1'b0}}));
             // the flag is the count's
             assert(flushing == (flush_left != {LW{1'b0}}));
-            assert(q_bad_ch == ({1'b0, q_wdata[26:24]} >= CH_COUNT));
+            assert(q_bad_ch == !(is_ch && ch_blk < CH_COUNT));
             assert(q_push_ch == (q_push && !q_bad_ch));
             assert(q_ctrl == (wr && !is_ch && g_reg == R_CTRL) &&
                    q_flush == (wr && !is_ch && g_reg == R_CTRL && q_wdata[1]) &&
                    q_errors == (wr && !is_ch && g_reg == R_ERRORS) &&
                    q_irq_en == (wr && !is_ch && g_reg == R_IRQ_EN) &&
                    q_poll_ready == (wr && !is_ch && g_reg == R_POLL_READY) &&
-                   q_push == (wr && !is_ch && g_reg == R_CMD_PUSH) &&
+                   q_push == (wr && is_ch && ch_blk < 6'd32 && ch_reg == 3'd6) &&
+                   q_idle == (wr && !is_ch && g_reg == R_IDLE_CHARGE) &&
                    q_pop == (rd && !is_ch && g_reg == R_RES_POP) &&
                    q_lab_key == (wr && !is_ch && g_reg == R_LAB_KEY) &&
                    q_fact_key == (wr && !is_ch && g_reg == R_FACTORY_KEY));
             assert(q_r_res_info == (rd && !is_ch && g_reg == R_RES_INFO && !res_empty));
             assert(q_r_res_pop  == (rd && !is_ch && g_reg == R_RES_POP && !res_empty));
+            assert(q_r_idle == (rd && !is_ch && g_reg == R_IDLE_CHARGE) &&
+                   q_r_busy == (rd && !is_ch && g_reg == R_BUSY));
             assert(q_key_lab  == (q_wdata == 32'h4C414221));
             assert(q_key_fact == (q_wdata == 32'h46414354));
         end
@@ -838,7 +878,9 @@ module twh_core #(
     // as the plain address multiplexer the one-hot selects stand for; zero
     // for write-only and unmapped addresses and for an empty result FIFO's
     // fields.
-    wire [35:0] f_res_shown = res_head & {36{!res_empty}};
+    wire [37:0] f_res_shown = res_head & {38{!res_empty}};
+    wire [CHANNELS+31:0] f_busy_x = {32'd0, c_sbusy};
+    wire [31:0] f_busy32 = f_busy_x[31:0];
     reg  [31:0] f_rdata, f_rdata_q;
     always @(*) begin
         f_rdata = 32'd0;
@@ -854,26 +896,31 @@ module twh_core #(
                     // (ENGINE = 1: twh_polls' word, ORed in a clock later)
                     3'd3:    f_rdata = ENGINE_N != 0 ? 32'd0 : c_pc[ch_sel*32 +: 32];
                     3'd4:    f_rdata = ENGINE_N != 0 ? 32'd0 : c_pr[ch_sel*32 +: 32];
-                    default: f_rdata = c_st[ch_sel*32 +: 32];
+                    3'd5:    f_rdata = c_st[ch_sel*32 +: 32];
+                    default: f_rdata = 32'd0;       // CMD_PUSH: write-only
                 endcase
             end else begin
                 case (g_reg)
                     R_ID:         f_rdata = 32'h54574831;
-                    R_VERSION:    f_rdata = {factory_armed, lab, 10'd0, CH_COUNT, 8'd1, 8'd0};
+                    R_VERSION:    f_rdata = {factory_armed, lab, CH_COUNT, 2'd0, NO_POLLING,
+                                             FIXED_TIMING, 4'd0, 8'd2, 8'd0};
                     R_PARAMS:     f_rdata = {CLK_KHZ, DEPTH12};
-                    R_CTRL:       f_rdata = {16'd0, idle_charge, 7'd0, enable};
+                    R_CTRL:       f_rdata = {31'd0, enable};
                     // FLUSHING: cancels left in the command FIFO or, with the
                     // time-shared engine, in the channels' queues
                     R_STATUS:     f_rdata = {19'd0, flushing || e_cancelling, res_vacant, res_full, cmd_vacant,
-                                             cmd_full, busy8};
+                                             cmd_full, 8'd0};
                     R_LEVELS:     f_rdata = {res_level16, cmd_level16};
                     R_ERRORS:     f_rdata = {27'd0, errors};
                     R_IRQ_EN:     f_rdata = {16'd0, res_threshold, 5'd0, ie_poll, ie_error, ie_result};
                     R_IRQ_STATUS: f_rdata = {29'd0, src_poll, src_error, src_result};
-                    R_POLL_READY: f_rdata = {24'd0, poll_ready};
-                    R_RES_INFO:   f_rdata = {11'd0, f_res_shown[35:31], !res_empty, f_res_shown[30:28],
-                                             f_res_shown[27:24], f_res_shown[23:16]};
-                    R_RES_POP:    f_rdata = {3'd0, f_res_shown[35:31], !res_empty, f_res_shown[30:28],
+                    R_POLL_READY: f_rdata = poll_ready32;
+                    R_IDLE_CHARGE: f_rdata = idle_charge32;
+                    R_BUSY:       f_rdata = f_busy32;
+                    // the FIFO word: {tag, channel, status, cmd, data}
+                    R_RES_INFO:   f_rdata = {3'd0, f_res_shown[32:28], 3'd0, f_res_shown[37:33],
+                                             !res_empty, 3'd0, f_res_shown[27:24], f_res_shown[23:16]};
+                    R_RES_POP:    f_rdata = {1'b0, f_res_shown[37:33], !res_empty, f_res_shown[32:28],
                                              f_res_shown[27:24], f_res_shown[15:0]};
                     default:      f_rdata = 32'd0;
                 endcase
@@ -920,7 +967,7 @@ module twh_core #(
     always @(*)
         if (f_chk_rd)
             assert(irq == ((ie_result && f_src_res) || (ie_error && f_src_err) ||
-                           (ie_poll && poll_ready != 8'd0)));
+                           (ie_poll && poll_ready != {CHANNELS{1'b0}})));
 
     // REFUSED rises only with a refused write and always with one (a clear
     // written in the same clock loses)
@@ -961,12 +1008,12 @@ module twh_core #(
     (* keep *) wire          f_cf_top, f_cf_one;   // u_cmd_fifo.top_r, one_r
     (* keep *) wire          f_cf_mo;              // u_cmd_fifo.mem_one
     (* keep *) wire [F_AW:0] f_cf_rp2;             // u_cmd_fifo.rd_ptr_p2
-    wire [33*FIFO_DEPTH-1:0] f_cf_mem;
+    wire [35*FIFO_DEPTH-1:0] f_cf_mem;
     genvar f_i;
     generate
         for (f_i = 0; f_i < FIFO_DEPTH; f_i = f_i + 1) begin : g_f_cf_mem
-            (* keep *) wire [32:0] w;               // u_cmd_fifo.mem[f_i]
-            assign f_cf_mem[f_i*33 +: 33] = w;
+            (* keep *) wire [34:0] w;               // u_cmd_fifo.mem[f_i]
+            assign f_cf_mem[f_i*35 +: 35] = w;
         end
     endgenerate
     wire [F_AW:0] f_cf_n = f_cf_wr - f_cf_rd;      // words in the RAM, behind the output
@@ -980,8 +1027,8 @@ module twh_core #(
     wire [F_AW:0] f_rf_n = f_rf_wr - f_rf_rd;
 
     // per-channel state widened to 8 channels
-    wire [CHANNELS+7:0] f_busy_w = {8'd0, c_busy};
-    wire [7:0] f_busy8 = f_busy_w[7:0];
+    wire [CHANNELS+31:0] f_busy_w = {32'd0, c_busy};
+    wire [31:0] f_busy8 = f_busy_w[31:0];
     integer f_j, f_k;
     reg [4:0] f_inch;          // commands the channels hold, in slots and engines
     always @(*) begin
@@ -1001,7 +1048,7 @@ module twh_core #(
     // accepted command's result has gone through the result FIFO, and
     // nothing is left in it
     always @(*)
-        if (f_ok && !rst && busy8 == 8'd0 && st_cmd_empty && st_res_empty)
+        if (f_ok && !rst && busy8 == 32'd0 && st_cmd_empty && st_res_empty)
             assert(f_pend == 6'd0 && res_level == {LW{1'b0}});
 
     // ------------------------------------------------ no result waits for ever
@@ -1056,10 +1103,10 @@ module twh_core #(
     (* anyseq *) reg f_pick;
     reg [1:0]    f_st;
     reg [LW-1:0] f_pos;
-    reg [32:0]   f_word;       // as pushed: {blocked, tag, channel, payload, code}
+    reg [34:0]   f_word;       // as pushed: {blocked, tag, channel, payload, code}
     reg          f_can, f_pf;
     reg          f_blk;        // it must come out BLOCKED (unless CANCELLED)
-    wire [2:0]   f_ch    = f_word[26:24];
+    wire [4:0]   f_ch    = f_word[28:24];
     wire         f_flush = wr && !is_ch && g_reg == R_CTRL && q_wdata[1];
     // a flush last clock hit it waiting in the slot (it is still there)
     wire         f_can_now = f_can || (f_st == 2'd2 && f_pf && slot_full8[f_ch]);
@@ -1081,7 +1128,7 @@ module twh_core #(
             case (f_st)
                 2'd0: if (push_ok && f_pick) begin
                           f_st   <= 2'd1;
-                          f_word <= {p_blocked, q_wdata};
+                          f_word <= {p_blocked, q_wdata[28:24], q_blk, q_wdata[23:0]};
                           f_blk  <= f_factory && !f_armed;
                           f_pos  <= cmd_level - {{(LW-1){1'b0}}, dispatch};
                           f_can  <= 1'b0;
@@ -1104,8 +1151,8 @@ module twh_core #(
 
     // its FIFO word, where it waits
     wire [F_AW:0] f_at = f_cf_rd + f_pos[F_AW:0] - {{F_AW{1'b0}}, f_cf_ov};
-    wire [32:0]   f_stored = (f_pos == {LW{1'b0}} && f_cf_ov) ? cmd_head
-                                                               : f_cf_mem[f_at[F_AW-1:0]*33 +: 33];
+    wire [34:0]   f_stored = (f_pos == {LW{1'b0}} && f_cf_ov) ? cmd_head
+                                                               : f_cf_mem[f_at[F_AW-1:0]*35 +: 35];
 
     always @(*) begin
         f_k = 0;
@@ -1133,15 +1180,15 @@ module twh_core #(
             assert(f_rf_mo == (f_rf_rp1 == f_rf_wr) && f_rf_rp2 == f_rf_rd + 2'd2);
             // every queued command names a channel that exists (the push
             // refuses the others), so a dispatch always lands in a slot
-            if (f_cf_ov) assert({1'b0, cmd_head[26:24]} < CH_COUNT);
+            if (f_cf_ov) assert({1'b0, cmd_head[28:24]} < CH_COUNT);
             for (f_k = 0; f_k < FIFO_DEPTH; f_k = f_k + 1)
                 if (f_k < f_cf_n)
-                    assert({1'b0, f_cf_mem[((f_cf_rd[F_AW-1:0] + f_k) % FIFO_DEPTH)*33 + 24 +: 3]} < CH_COUNT);
+                    assert({1'b0, f_cf_mem[((f_cf_rd[F_AW-1:0] + f_k) % FIFO_DEPTH)*35 + 24 +: 5]} < CH_COUNT);
 
             // ---- dispatch: one word out of the FIFO, into a free slot of
             // the channel it names (the channel's own proof assumes this)
             if (dispatch)
-                assert(f_cf_ov && disp_ch == cmd_head[26:24] && disp_blk == cmd_head[32] &&
+                assert(f_cf_ov && disp_ch == cmd_head[28:24] && disp_blk == cmd_head[34] &&
                        {1'b0, disp_ch} < CH_COUNT && !slot_full8[disp_ch]);
             for (f_k = 0; f_k < CHANNELS; f_k = f_k + 1)
                 if (c_res_valid[f_k]) assert(c_busy[f_k]);     // stand-in state
@@ -1159,7 +1206,7 @@ module twh_core #(
             if (push_ok) assert(p_blocked == (f_factory && !f_armed));
 
             // ---- the followed command
-            if (f_st != 2'd0) assert(f_word[32] == f_blk);
+            if (f_st != 2'd0) assert(f_word[34] == f_blk);
             if (f_st == 2'd1) begin
                 assert(f_pos < cmd_level);
                 assert(f_stored == f_word);
@@ -1170,15 +1217,15 @@ module twh_core #(
             if (f_st != 2'd0) assert({1'b0, f_ch} < CH_COUNT);
             if (f_st == 2'd2 && slot_full8[f_ch])
                 // in the slot as pushed; blocked or cancelled as it must be
-                assert(f_slot[16:0] == {f_skip, f_word[31:27], f_word[7:0]});
+                assert(f_slot[16:0] == {f_skip, f_word[33:29], f_word[7:0]});
             if ((f_st == 2'd2 && !slot_full8[f_ch]) || f_st == 2'd3) begin
-                assert(f_busy8[f_ch] && f_eng[16:0] == {f_skip, f_word[31:27], f_word[7:0]});
-                if (f_st == 2'd2) assert(!c_res_valid8[f_ch]);
+                assert(f_busy8[f_ch] && f_eng[16:0] == {f_skip, f_word[33:29], f_word[7:0]});
+                if (f_st == 2'd2) assert(!c_res_valid8[f_ch[2:0]]);
             end
             // its one result, offered and then put into the result FIFO:
             // its tag, channel and code, and its status
-            if (f_st == 2'd3 && c_res_valid8[f_ch]) begin
-                assert(f_res[8:4] == f_word[31:27] && f_res_cmd == f_word[7:0]);
+            if (f_st == 2'd3 && c_res_valid8[f_ch[2:0]]) begin
+                assert(f_res[8:4] == f_word[33:29] && f_res_cmd == f_word[7:0]);
                 if (f_skip != 4'd0) assert(f_res[3:0] == f_skip);
                 else                assert(f_res[3:0] <= `TWH_ST_LINE_STUCK_HIGH);
             end

@@ -14,7 +14,7 @@
 //   CHANNELS + 6 clocks of its start, long before its last period reads it.
 // - STATE: PHASE the engine's phase, BUSY a transaction under way (phases
 //   charge to turnaround), SLOT_FULL a queued command not started.
-// - STATUS.BUSY: a command queued or running, a poll running, or a result in
+// - BUSY (the register): a command queued or running, a poll running, or a result in
 //   the engine's result register.
 `default_nettype none
 `include "twh_defs.vh"
@@ -36,11 +36,12 @@ module twh_core_engine #(
     input  wire                   pc_wr,
     input  wire                   rd_ctrl,
     input  wire                   rd_res,
-    input  wire [2:0]             reg_ch,
+    input  wire [4:0]             reg_ch,
     output wire [31:0]            rd_data,
     // phase lengths from twh_timing
     output wire [CHANNELS*3-1:0]  nx_fld,
     input  wire [CHANNELS-1:0]    dur_we,
+    input  wire [4:0]             dur_ch,
     input  wire [15:0]            dur,
     input  wire [2:0]             dur_fld,
     // channel registers
@@ -49,7 +50,7 @@ module twh_core_engine #(
     output wire                   poll_error,
     // commands from the dispatcher
     input  wire                   cmd_valid,
-    input  wire [2:0]             cmd_ch,
+    input  wire [4:0]             cmd_ch,
     input  wire [7:0]             cmd_code,
     input  wire [15:0]            cmd_payload,
     input  wire [4:0]             cmd_tag,
@@ -60,7 +61,7 @@ module twh_core_engine #(
     // results for the result FIFO: {tag, channel, status, code, data}
     output wire                   res_valid,
     input  wire                   res_ready,
-    output wire [35:0]            res,
+    output wire [37:0]            res,
     // pins
     output wire [CHANNELS-1:0]    line_o,
     output wire [CHANNELS-1:0]    line_oe,
@@ -69,14 +70,8 @@ module twh_core_engine #(
 );
     localparam integer CW = (CHANNELS > 1) ? $clog2(CHANNELS) : 1;
 
-    // twh_timing's one-hot write to the engine's timing RAM address
-    reg [CW-1:0] t_ch;
-    integer i;
-    always @(*) begin
-        t_ch = {CW{1'b0}};
-        for (i = 0; i < CHANNELS; i = i + 1)
-            if (dur_we[i]) t_ch = i[CW-1:0];
-    end
+    // twh_timing's write to the engine's timing RAM: its channel by number
+    wire [CW-1:0] t_ch = dur_ch[CW-1:0];
 
     wire [CHANNELS-1:0]    p_due;
     wire [15:0]            p_cmd;
@@ -122,15 +117,15 @@ module twh_core_engine #(
         .p_count(p_count), .sample(poll_sample), .error(poll_error)
     );
     // verilator lint_off UNUSEDSIGNAL
-    wire [3:0] r_ch4 = {{(4-CW){1'b0}}, r_ch};    // (CW is 1-3)
+    wire [5:0] r_ch6 = {{(6-CW){1'b0}}, r_ch};    // (CW is 1-5)
     // verilator lint_on UNUSEDSIGNAL
-    assign res = {r_tag, r_ch4[2:0], r_status, r_code, r_data};
+    assign res = {r_tag, r_ch6[4:0], r_status, r_code, r_data};
 
     // (the dispatcher names an existing channel, the push checked it, and
     // pushes only into a queue that is not full: `full`)
     // verilator lint_off UNUSEDSIGNAL
     wire       cmd_ready;
-    wire [2:0] unused_ch = cmd_ch ^ reg_ch;
+    wire [4:0] unused_ch = cmd_ch ^ reg_ch ^ dur_ch;
     // verilator lint_on UNUSEDSIGNAL
 
     genvar n;

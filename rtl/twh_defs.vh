@@ -54,7 +54,7 @@
     ((p) >= 4 && (p) >= (ch) && (ch) + 4 < 2 * (p) && ((frac) == 0 || (p) >= (ch) + 5))
 
 `define TWH_MAGIC         32'h54574831    // "TWH1"
-`define TWH_VERSION_MAJOR 8'd1
+`define TWH_VERSION_MAJOR 8'd2
 `define TWH_VERSION_MINOR 8'd0
 `define TWH_LAB_KEY       32'h4C414221    // "LAB!"
 `define TWH_FACTORY_KEY   32'h46414354    // "FACT"

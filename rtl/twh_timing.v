@@ -38,17 +38,18 @@ module twh_timing #(
     input  wire                  lab,        // lengths run unclamped
     // bus write (the core's verdict taken: the value is to be stored)
     input  wire                  wr,
-    input  wire [2:0]            wr_ch,
+    input  wire [4:0]            wr_ch,      // 0 .. CHANNELS-1 (up to 32)
     input  wire [1:0]            wr_reg,     // 0-2: TIMING0-2
     input  wire [31:0]           wr_data,
     input  wire [3:0]            wr_cmp,     // twh_window's flags of wr_data
     // bus read
-    input  wire [2:0]            rd_ch,
+    input  wire [4:0]            rd_ch,
     input  wire [1:0]            rd_reg,
     output wire [31:0]           rd_data,    // one clock after rd_*
     // engines
     input  wire [CHANNELS*3-1:0] nx_fld,     // per channel: field 1-6 it needs next
     output reg  [CHANNELS-1:0]   dur_we,
+    output reg  [4:0]            dur_ch,     // dur_we's channel, by number
     output reg  [15:0]           dur,
     output reg  [2:0]            dur_fld
 );
@@ -62,19 +63,20 @@ module twh_timing #(
 
     // ------------------------------------------------------------ storage
     // Four words a channel ({channel, register}: the address needs no
-    // arithmetic), 16 up to four channels and 32 above: one block RAM deep
-    // on the iCE40s, and on ECP5 one LUT RAM bank, with no bank multiplexer
-    // behind the read. A read in the clock its word
+    // arithmetic), 16 up to four channels, then 32, 64 or 128 words (up to
+    // 8, 16, 32 channels): one block RAM deep on the iCE40s up to 64
+    // channels' words, and on ECP5 LUT RAM. A read in the clock its word
     // is written may see the old or the new value (no_rw_check: no
     // collision logic in front of the RAM): the bus never reads a word in
     // its write's clock (a request is a read or a write), and a fetch that
     // meets a write is repeated within CHANNELS clocks anyway.
-    localparam integer AW = (CHANNELS <= 4) ? 4 : 5;
+    localparam integer AW = (CHANNELS <= 4) ? 4 : (CHANNELS <= 8) ? 5 :
+                            (CHANNELS <= 16) ? 6 : 7;
     localparam integer NW = 1 << AW;
-    // the word of channel c's register r is {c[AW-3:0], r}; up to four
-    // channels the channel's top bit is unused
+    // the word of channel c's register r is {c[AW-3:0], r}; the channel's
+    // bits above AW-3 are unused (0 for every channel that exists)
     // verilator lint_off UNUSEDSIGNAL
-    wire unused_ch = wr_ch[2] ^ rd_ch[2];
+    wire unused_ch = ^wr_ch ^ ^rd_ch;
     // verilator lint_on UNUSEDSIGNAL
     // the words that exist: TIMING0-2 of each channel
     function [NW-1:0] words_mask;
@@ -119,8 +121,8 @@ module twh_timing #(
     // stage 1: the field's half and flags picked; then the clamp, into the
     // engine's register
     localparam integer LAST_I = CHANNELS - 1;
-    localparam [2:0]   LAST_CH = LAST_I[2:0];
-    reg  [2:0] f_ch;
+    localparam [4:0]   LAST_CH = LAST_I[4:0];
+    reg  [4:0] f_ch;
     wire [2:0] f_fld = nx_fld[f_ch*3 +: 3];
     // fields 1-2 are TIMING0's, 3-4 TIMING1's, 5-6 TIMING2's
     wire [1:0] f_reg = (f_fld <= 3'd2) ? 2'd0 : (f_fld <= 3'd4) ? 2'd1 : 2'd2;
@@ -135,14 +137,16 @@ module twh_timing #(
     // LUTs larger (Yosys 0.70), where this keeps it the direct fetch's own.
     reg  [35:0] e_word;
     reg         e_written, e_ok;
-    reg  [2:0]  e_ch, e_fld;
+    reg  [4:0]  e_ch;
+    reg  [2:0]  e_fld;
     always @(posedge clk) begin
-        if (rst || f_ch == LAST_CH)      f_ch <= 3'd0;
-        else                             f_ch <= f_ch + 3'd1;
+        if (rst || f_ch == LAST_CH)      f_ch <= 5'd0;
+        else                             f_ch <= f_ch + 5'd1;
     end
     generate
         if (CHANNELS > 1) begin : g_stage
-            reg [2:0] a_ch, a_fld;
+            reg [4:0] a_ch;
+            reg [2:0] a_fld;
             reg [1:0] a_reg;
             reg       a_ok;
             always @(posedge clk) begin
@@ -179,6 +183,7 @@ module twh_timing #(
     reg  [15:0] p_v;
     reg         p_b, p_a;
     reg  [2:0]  p_fld;
+    reg  [4:0]  p_ch;
     // which engine the length is for, one-hot (the channel decoded on the
     // way in): each engine compares the field it is handed with the one it
     // needs in the clock it comes (ECP5's path from here into its next move)
@@ -191,6 +196,7 @@ module twh_timing #(
         p_a   <= !lab && (e_fm1[0] ? e_val[35] : e_val[33]);
         p_we  <= (!rst && e_ok) ? ONE << e_ch : {CHANNELS{1'b0}};
         p_fld <= e_fld;
+        p_ch  <= e_ch;
     end
     reg [15:0] w_lo, w_hi;
     always @(*) begin
@@ -207,11 +213,13 @@ module twh_timing #(
     always @(*) begin
         if (PROG != 0) begin
             dur_we  = p_we;
+            dur_ch  = p_ch;
             dur     = p_b ? w_lo : p_a ? w_hi : p_v;
             dur_fld = p_fld;
         end else begin
             // the defaults lie in their windows: nothing to clamp
             dur_we  = ONE << f_ch;
+            dur_ch  = f_ch;
             dur     = (f_fld == 3'd2 || f_fld == 3'd4 || f_fld == 3'd6) ? fx_word[31:16] : fx_word[15:0];
             dur_fld = f_fld;
         end
@@ -283,7 +291,7 @@ module twh_timing #(
 
     // the word followed, and what it must hold: f_w, written since the
     // reset; f_val, the last value written
-    (* anyconst *) reg [2:0] f_ach;
+    (* anyconst *) reg [4:0] f_ach;
     (* anyconst *) reg [1:0] f_areg;
     wire [AW-1:0] f_a = {f_ach[AW-3:0], f_areg};        // where it is stored
     // a write, read or fetch of that register, by channel and register (not
@@ -333,12 +341,13 @@ module twh_timing #(
     localparam [0:0] STAGE = (CHANNELS > 1);
     reg        f0_ok = 1'b0, f1_ok = 1'b0, f2_ok = 1'b0;
     reg        f1_hit, f2_hit, f2_lab;
-    reg [2:0]  f0_ch, f0_fld, f1_ch, f1_fld, f2_ch, f2_fld;
+    reg [4:0]  f0_ch, f1_ch, f2_ch;
+    reg [2:0]  f0_fld, f1_fld, f2_fld;
     // the value as of the read, and as a write in that clock leaves it
     // (a fetch that meets a write may take either)
     reg [31:0] f1_v, f2_v, f1_vn, f2_vn;
     wire       r_ok  = STAGE ? f0_ok  : f_ok && !rst;   // a fetch reads now ...
-    wire [2:0] r_ch  = STAGE ? f0_ch  : f_ch;           // ... this channel's
+    wire [4:0] r_ch  = STAGE ? f0_ch  : f_ch;           // ... this channel's
     wire [2:0] r_fld = STAGE ? f0_fld : f_fld;          // ... named field
     wire [1:0] r_reg = (r_fld <= 3'd2) ? 2'd0 : (r_fld <= 3'd4) ? 2'd1 : 2'd2;
     always @(posedge clk) begin
@@ -387,7 +396,7 @@ module twh_timing #(
     endgenerate
     always @(posedge clk) begin
         if (f_ok && !rst)
-            assert(f_ch == (($past(f_ch) == LAST_CH || $past(rst)) ? 3'd0 : $past(f_ch) + 3'd1));
+            assert(f_ch == (($past(f_ch) == LAST_CH || $past(rst)) ? 5'd0 : $past(f_ch) + 5'd1));
     end
 `endif
 endmodule

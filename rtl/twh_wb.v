@@ -18,7 +18,7 @@ module twh_wb #(
 ) (
     input  wire                clk,
     input  wire                rst,
-    input  wire [8:0]          wb_adr_i,
+    input  wire [10:0]         wb_adr_i,
     input  wire [31:0]         wb_dat_i,
     output wire [31:0]         wb_dat_o,
     input  wire                wb_we_i,

@@ -38,6 +38,31 @@ trap 'rm -rf "$tmp"' EXIT
 "$PEAKRDL" c-header "$rdl" "${cfg[@]}" --std gnu99 -o "$tmp/twh_regs.h"
 "$PEAKRDL" markdown "$rdl" "${cfg[@]}" -o "$tmp/registers.md"
 
+# peakrdl-markdown writes the channel block out once per array element (32
+# copies that differ only in their absolute addresses): keep CH[0]'s, say
+# where CH[n] is, and list the first and last block in the address table.
+python3 - "$tmp/registers.md" <<'PY'
+import re, sys
+path = sys.argv[1]
+text = open(path).read()
+head, sep, rest = text.partition("\n## CH register file\n")
+assert sep, "no channel register file in the markdown"
+first = rest.split("\n## CH register file\n")[0]
+first = re.sub(r"^- Absolute Address: (0x[0-9A-Fa-f]+)$",
+               r"- Absolute Address: \1 (CH[0]; CH[n] at + 0x20 * n)", first, flags=re.M)
+rows = re.findall(r"^\|[^\n]*\|\s*CH\[(\d+)\]\s*\|[^\n]*$", head, flags=re.M)
+last = max(int(n) for n in rows)
+lines = []
+for line in head.split("\n"):
+    m = re.match(r"^\|[^|]*\|\s*CH\[(\d+)\]\s*\|", line)
+    if m and int(m.group(1)) not in (0, last):
+        if int(m.group(1)) != 1:
+            continue
+        line = "| ...  |    ...    |             ...            |"
+    lines.append(line)
+open(path, "w").write("\n".join(lines) + sep + first.rstrip("\n") + "\n")
+PY
+
 mkdir -p "$out/sw/include" "$out/docs"
 { echo "// $note"; cat "$tmp/twh_regs.h"; } > "$out/sw/include/twh_regs.h"
 { echo "<!-- $note -->"; cat "$tmp/registers.md"; } > "$out/docs/registers.md"

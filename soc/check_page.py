@@ -7,10 +7,13 @@ from the vector image its cell carries (tb/vectors/flash_o2.json,
 flash_co2.json) and the cell's raw readings, through the project's Python
 map and conversion rules (tb/flashmap.py, tb/protocol.py, held to the same
 vectors by tb/test_protocol.py) - the page the PC tool's test expects too.
-The run must also have used the interrupt: wait_irq called, every wait ended
-by the core's interrupt, none by its timeout, and at least one that had to
-wait for it; with --no-irq (a CPU without interrupts: SERV), the firmware
-must say it polled and no wait_irq may have run.
+The banner must name the core's channels, FIFO depth, clock and the
+register map's major version (VERSION.MAJOR of sw/include/twh_regs.h: 2,
+the map for up to 32 channels). The run must also have used the interrupt:
+wait_irq called, every wait ended by the core's interrupt, none by its
+timeout, and at least one that had to wait for it; with --no-irq (a CPU
+without interrupts: SERV), the firmware must say it polled and no wait_irq
+may have run.
 
     check_page.py UART_LOG [--clk-khz 4000] [--channels 3] [--fifo-depth 16] [--no-irq]
 """
@@ -26,6 +29,14 @@ sys.path.insert(0, str(ROOT / "tb"))
 from sensor_page import expected_page, pages  # noqa: E402
 
 
+def major_version():
+    """VERSION.MAJOR's reset value in the generated header the driver was
+    built with (twh_init refuses any other major)"""
+    text = (ROOT / "sw" / "include" / "twh_regs.h").read_text()
+    return int(re.search(r"#define TWH_REGS__VERSION__MAJOR_reset (0x[0-9a-fA-F]+|\d+)", text)
+               .group(1), 0)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("log")
@@ -39,7 +50,8 @@ def main():
     text = Path(a.log).read_text()
     fails = []
 
-    head = f"core: {a.channels} channels, FIFO depth {a.fifo_depth}, {a.clk_khz} kHz, version "
+    head = (f"core: {a.channels} channels, FIFO depth {a.fifo_depth}, {a.clk_khz} kHz, "
+            f"version {major_version()}.")
     if not any(line.startswith(head) for line in text.splitlines()):
         fails.append(f"no line starting '{head}'")
     got = pages(text)

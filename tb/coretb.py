@@ -350,21 +350,32 @@ class CoreTB:
         # before time starts (the WB handshake stayed X): drive them later.
         await Timer(1, "ns")
         d.rst.value = 1
-        for ch in range(TB_CHANNELS):
+        # tb_core: flat per-channel scalars (up to eight); tb_core_many: a
+        # tb_engine_ch a channel (its regs start at 0)
+        many = self.many = hasattr(d, "g_ch")
+        for ch in range(0 if many else TB_CHANNELS):
             for sig in ("periph_o", "periph_oe", "stuck_en", "stuck_val", "glitch"):
                 getattr(d, f"{sig}_{ch}").value = 0
         for ch in range(self.channels):
-            pins = types.SimpleNamespace(
-                line=getattr(d, f"line_{ch}"), periph_o=getattr(d, f"periph_o_{ch}"),
-                periph_oe=getattr(d, f"periph_oe_{ch}"), line_o=getattr(d, f"line_o_{ch}"),
-                line_oe=getattr(d, f"line_oe_{ch}"), carrier=getattr(d, f"u_line{ch}").carrier)
+            if many:
+                c = d.g_ch[ch].u_ch
+                pins = types.SimpleNamespace(
+                    line=c.line, periph_o=c.periph_o, periph_oe=c.periph_oe,
+                    line_o=c.line_o, line_oe=c.line_oe, carrier=c.u_line.carrier)
+            else:
+                pins = types.SimpleNamespace(
+                    line=getattr(d, f"line_{ch}"), periph_o=getattr(d, f"periph_o_{ch}"),
+                    periph_oe=getattr(d, f"periph_oe_{ch}"), line_o=getattr(d, f"line_o_{ch}"),
+                    line_oe=getattr(d, f"line_oe_{ch}"), carrier=getattr(d, f"u_line{ch}").carrier)
             self.pins.append(pins)
             prof = self.profiles[ch]
             self.models.append(PeripheralModel(pins, prof, self.faults or Faults(),
-                                               line_log=f"line_{ch}.log", carrier=pins.carrier)
+                                               line_log=f"line_{ch:02d}.log" if many else f"line_{ch}.log",
+                                               carrier=pins.carrier)
                                if prof else None)
             self.monitors.append(SpecMonitor(pins, execute_max_us=prof.exec_max_us if prof else 10000,
-                                             name=f"spec_ch{ch}", pin_log=f"pins_{ch}.log"))
+                                             name=f"spec_ch{ch}",
+                                             pin_log=f"pins_{ch:02d}.log" if many else f"pins_{ch}.log"))
         self.bus = WishboneDriver(d) if self.bus_kind == 0 else AxiLiteDriver(d)
         self.bus.idle_inputs()
         for _ in range(4):
@@ -476,9 +487,10 @@ class CoreTB:
 
     # ------------------------------------------------------------ commands
     async def push(self, cmd, payload=0x00AA, ch=0, tag=0, expect_err=False):
-        """CMD_PUSH one command; returns True when it was accepted."""
-        v = self.pack("CMD_PUSH", CMD=cmd, PAYLOAD=payload, CHANNEL=ch, TAG=tag)
-        err = await self.write32(self.addr("CMD_PUSH"), v)
+        """CMD_PUSH one command into channel ch's block (an absent channel's
+        too: the map has 32); returns True when it was accepted."""
+        v = self.pack("CMD_PUSH", 0, CMD=cmd, PAYLOAD=payload, TAG=tag)
+        err = await self.write32(self.addr("CMD_PUSH", ch), v)
         if expect_err is not None and err != expect_err:
             raise BusError(f"push cmd={cmd:#04x} ch={ch} tag={tag}: "
                            f"{'refused' if err else 'accepted'}")
@@ -547,14 +559,14 @@ class CoreTB:
             await Timer(poll_us, "us")
 
     async def wait_idle(self, timeout_ms=200, drain=False):
-        """Every channel idle (STATUS.BUSY = 0, no slot full) and the command
+        """Every channel idle (BUSY = 0, no slot full) and the command
         FIFO empty. With drain, results are popped meanwhile (into
         self.results), so a full result FIFO cannot hold the engines."""
         async def idle():
             if drain:
                 await self.drain()
             st = await self.fields("STATUS")
-            if st.BUSY or not st.CMD_EMPTY:
+            if await self.read("BUSY") or not st.CMD_EMPTY:
                 return False
             for ch in range(self.channels):
                 s = await self.fields("STATE", ch)
@@ -569,7 +581,8 @@ class CoreTB:
     async def describe(self) -> str:
         """The core's state in one line (for failure messages)."""
         out = [f"STATUS {await self.fields('STATUS')}", f"LEVELS {await self.fields('LEVELS')}",
-               f"CTRL {await self.read('CTRL'):#x}"]
+               f"CTRL {await self.read('CTRL'):#x}", f"BUSY {await self.read('BUSY'):#x}",
+               f"IDLE_CHARGE {await self.read('IDLE_CHARGE'):#x}"]
         for ch in range(self.channels):
             out.append(f"ch{ch}: STATE {await self.fields('STATE', ch)} "
                        f"POLL_CTRL {await self.read('POLL_CTRL', ch):#010x} "

@@ -672,7 +672,7 @@ class RandomTB(CoreTB):
         self.stats.refused += 1
 
     async def bad_channel_push(self, rng):
-        ch = rng.randint(3, 7)
+        ch = rng.randint(self.channels, 31)      # an absent channel of the 32-channel map
         async with self.err_lock:
             assert await self.field("ERRORS", "BAD_CHANNEL") == 0
             async with self.push_lock:

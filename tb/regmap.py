@@ -41,14 +41,14 @@ Example (a doctest: tb/test_regmap_py.py runs it):
     [('0x0', 'ID'), ('0x4', 'VERSION'), ('0x8', 'PARAMS')]
     >>> t0 = rm["CH[1].TIMING0"]
     >>> hex(t0.address), t0.channel, hex(t0.reset), t0.field("SYNC_US").reset
-    ('0x60', 1, '0x3e81f40', 1000)
+    ('0xa0', 1, '0x3e81f40', 1000)
     >>> ctrl = rm["CTRL"]
     >>> f = ctrl.field("FLUSH")
     >>> f.lsb, f.msb, f.sw, f.onwrite, f.singlepulse
     (1, 1, 'w', None, True)
     >>> hex(regmap.rw_mask(ctrl)), hex(regmap.wo_mask(ctrl)), hex(ctrl.read_mask)
-    ('0xff01', '0x2', '0xff01')
-    >>> [r.name for r in rm.absent][:2]        # CH[2]..CH[7]: bus error
+    ('0x1', '0x2', '0x1')
+    >>> [r.name for r in rm.absent][:2]        # CH[2]..CH[31]: bus error
     ['CH[2].TIMING0', 'CH[2].TIMING1']
     >>> rm["VERSION"].field("CHANNELS").reset
     2
@@ -60,7 +60,10 @@ Example (a doctest: tb/test_regmap_py.py runs it):
     >>> hex(regmap.read_after_write(errors, before=0x1F, written=0x05))
     '0x1a'
     >>> [hex(a) for a in rm.holes()][:3]      # reserved words inside the map
-    ['0x3c', '0x58', '0x5c']
+    ['0x28', '0x44', '0x48']
+    >>> f = rm["IDLE_CHARGE"].field("IDLE_CHARGE")   # one bit a channel of the build
+    >>> f.per_channel, f.msb, hex(rm["IDLE_CHARGE"].reserved_mask)
+    (True, 1, '0xfffffffc')
 """
 from __future__ import annotations
 
@@ -100,6 +103,7 @@ class Field:
     singlepulse: bool = False
     hw: str = "na"
     desc: str = ""
+    per_channel: bool = False     # bit n is channel n (narrowed by load())
 
     @property
     def width(self) -> int:
@@ -394,6 +398,15 @@ def load(channels: Optional[int] = None, fifo_depth: Optional[int] = None,
                        for x in reg.fields)
         by_name[rname] = replace(reg, fields=fields)
 
+    # a per-channel field has one bit for each channel of the build: the
+    # bits of absent channels are reserved (read 0, ignore writes)
+    for name, reg in list(by_name.items()):
+        if any(f.per_channel for f in reg.fields):
+            fields = tuple(replace(f, msb=f.lsb + params["CHANNELS"] - 1,
+                                   reset=f.reset & ((1 << params["CHANNELS"]) - 1))
+                           if f.per_channel else f for f in reg.fields)
+            by_name[name] = replace(reg, fields=fields)
+
     present, absent = [], []
     for r in regs:
         r = by_name[r.name]
@@ -402,6 +415,14 @@ def load(channels: Optional[int] = None, fifo_depth: Optional[int] = None,
     per_channel = sum(1 for r in regs if r.channel == 0)
     return RegMap(present, absent, params, size, base, stride, count,
                   per_channel)
+
+
+def _udp(node, name):
+    """A user-defined property of the RDL, or None where it is not set."""
+    try:
+        return node.get_property(name)
+    except LookupError:
+        return None
 
 
 @functools.lru_cache(maxsize=None)
@@ -454,7 +475,8 @@ def _compile(rdl: str):
                 onread=onread.name if onread is not None else None,
                 singlepulse=bool(f.get_property("singlepulse")),
                 hw=f.get_property("hw").name,
-                desc=f.get_property("desc") or ""))
+                desc=f.get_property("desc") or "",
+                per_channel=bool(_udp(f, "per_channel"))))
         regs.append(Register(
             name=name, address=node.absolute_address,
             width=node.get_property("regwidth"),

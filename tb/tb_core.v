@@ -18,7 +18,7 @@ module tb_core #(
 ) (
     input  wire        rst,
     // Wishbone B4 classic
-    input  wire [8:0]  wb_adr_i,
+    input  wire [10:0] wb_adr_i,
     input  wire [31:0] wb_dat_i,
     output wire [31:0] wb_dat_o,
     input  wire        wb_we_i,
@@ -28,7 +28,7 @@ module tb_core #(
     output wire        wb_ack_o,
     output wire        wb_err_o,
     // AXI4-Lite
-    input  wire [8:0]  s_axil_awaddr,
+    input  wire [10:0] s_axil_awaddr,
     input  wire [2:0]  s_axil_awprot,
     input  wire        s_axil_awvalid,
     output wire        s_axil_awready,
@@ -39,7 +39,7 @@ module tb_core #(
     output wire [1:0]  s_axil_bresp,
     output wire        s_axil_bvalid,
     input  wire        s_axil_bready,
-    input  wire [8:0]  s_axil_araddr,
+    input  wire [10:0] s_axil_araddr,
     input  wire [2:0]  s_axil_arprot,
     input  wire        s_axil_arvalid,
     output wire        s_axil_arready,

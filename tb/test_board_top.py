@@ -3,7 +3,7 @@
 peripheral model and the spec monitor on each 2-wire line (tb/boardtb.py).
 
 - bridge_protocol (115200 baud, the board's build): register reads and
-  writes, the ID magic, bus errors (from the core, and beyond the core's
+  writes, the ID magic, bus errors (from the core, at the top of the bridge's 1 KiB
   window, which must not alias), the irq bit, damaged requests, garbage,
   the silence timeout and the break that resynchronise the parser, a glitch
   on the idle line, a one-sample glitch inside each bit (majority vote),
@@ -107,24 +107,26 @@ async def bridge_protocol(dut):
     assert a.frame_err and a.data == 0, (hex(a.status), hex(a.data))
     assert int(d.led_red_n.value) == 0, "fault LED not lit after a damaged request"
 
-    # -- bus errors: an unmapped register; a word beyond the core's 512-byte
-    # window, which must neither alias onto the core (ID) nor push a command
-    a = await tb.read_word(0x1FC >> 2)
+    # -- bus errors: an unmapped register; the top of the bridge's 1 KiB
+    # window (A = 0xFF, an absent channel's unused word), which must not
+    # alias onto the core (ID); version 1's CMD_PUSH address (0x28), which
+    # must not push a command
+    a = await tb.read_word(0x44 >> 2)
     assert a.bus_err and a.data == 0, (hex(a.status), hex(a.data))
-    a = await tb.read_word(0x80)
+    a = await tb.read_word(0xFF)
     assert a.bus_err and a.data == 0, (hex(a.status), hex(a.data))
     ctrl = tb.rm["CTRL"]
     await tb.write("CTRL", ctrl.field("ENABLE").put(ctrl.reset, 0))   # a push would stay queued
-    push = tb.rm["CMD_PUSH"].field("CMD").put(0, 0x41) | \
-        tb.rm["CMD_PUSH"].field("PAYLOAD").put(0, 0xAA)
-    a = await tb.write_word(0x80 | tb.addr("CMD_PUSH") >> 2, push)
+    push = tb.rm["CH[0].CMD_PUSH"].field("CMD").put(0, 0x41) | \
+        tb.rm["CH[0].CMD_PUSH"].field("PAYLOAD").put(0, 0xAA)
+    a = await tb.write_word(0x28 >> 2, push)
     assert a.bus_err, hex(a.status)
     assert tb.field("LEVELS", await tb.read("LEVELS"), "CMD_LEVEL") == 0
     assert await tb.read("ERRORS") == 0
     await tb.write("CTRL", ctrl.reset)
 
     # -- a bus error from the core, and the irq line in the status byte
-    a = await tb.write("CMD_PUSH", tb.rm["CMD_PUSH"].field("CHANNEL").put(push, 5))
+    a = await tb.write_word(tb.rm["CH[5].CMD_PUSH"].address >> 2, push)
     assert a.bus_err, hex(a.status)
     assert tb.field("ERRORS", await tb.read("ERRORS"), "BAD_CHANNEL") == 1
     a = await tb.status()

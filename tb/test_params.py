@@ -6,7 +6,7 @@ docs/engine.md).
 The ranges are localparams, CHANNELS' and FIFO_DEPTH's in rtl/twh_core.v,
 CLK_HZ's in rtl/twh_carrier.v, and an out-of-range value instantiates a
 module that does not exist, named for the parameter and its range
-(twh_error_CHANNELS_must_be_1_to_8): each tool reports it as missing. The
+(twh_error_CHANNELS_must_be_1_to_32): each tool reports it as missing. The
 range is read here from the localparams, so the bad values follow it when
 it changes, and the module's name must say the same range.
 
@@ -70,6 +70,9 @@ ERROR = {
     "FIFO_DEPTH": f"twh_error_FIFO_DEPTH_must_be_a_power_of_two_{FD_MIN}_to_{FD_MAX}",
     "CLK_HZ": f"twh_error_CLK_HZ_must_be_{CLK_MIN // 1_000_000}MHz_to_{CLK_MAX // 1_000_000}MHz",
     "ENGINE": f"twh_error_ENGINE_must_be_0_or_{_localparam(CORE_V, 'ENGINE_MAX')}",
+    # ENGINE = 0 (one twh_channel a channel) stops at fewer channels
+    "CHANNELS_ENGINE0": f"twh_error_CHANNELS_must_be_{CH_MIN}_to_"
+                        f"{_localparam(CORE_V, 'CHANNELS_ENGINE0_MAX')}_with_ENGINE_0",
 }
 
 # the time-shared engine on its own (issue 34, docs/engine.md; the bus tops'
@@ -100,7 +103,7 @@ ENGINE_GOOD = [
 ]
 
 # (top, parameter, bad value): below and above each range, far above it
-# (CHANNELS: 0, 9, 16 and 32 while the range is 1-8), a FIFO depth inside
+# (CHANNELS: 0, 33, 64 and 128 while the range is 1-32), a FIFO depth inside
 # the range that is no power of two
 BAD = [
     ("twh_wb",   "CHANNELS",   CH_MIN - 1),
@@ -132,7 +135,8 @@ def test_ranges_agree():
     assert CH_MIN - 1 < CH_MIN and CH_MAX < CH_MAX + 1
     assert not CLK_MIN <= 3_000_000 <= CLK_MAX and not CLK_MIN <= 250_000_000 <= CLK_MAX
     assert FD_MIN <= 24 <= FD_MAX and 24 & 23
-    for path, names in ((CORE_V, ("CHANNELS", "FIFO_DEPTH", "ENGINE")), (CARRIER_V, ("CLK_HZ",))):
+    for path, names in ((CORE_V, ("CHANNELS", "FIFO_DEPTH", "ENGINE", "CHANNELS_ENGINE0")),
+                        (CARRIER_V, ("CLK_HZ",))):
         text = path.read_text()
         for name in names:
             assert re.search(rf"^\s*{ERROR[name]}\s+u_err\s*\(\s*\)\s*;", text, re.M), \
@@ -233,8 +237,11 @@ def test_engine_floor_ends_elaborate(tools, tool, params, tmp_path):
 # The bus tops with the time-shared engine (ENGINE = 1): a clock below its
 # floor for CHANNELS is named by the core's twh_carrier, once, and a clock
 # outside the carrier's own range (or a fraction it refuses) by the carrier's
-# own error alone, never with the floor's beside it.
+# own error alone, never with the floor's beside it. With ENGINE = 0 more
+# than its 8 channels are named by their own error.
 CORE_FLOOR_BAD = [
+    ("twh_wb",   {"CHANNELS": 9, "ENGINE": 0, "CLK_HZ": 12_000_000}, ERROR["CHANNELS_ENGINE0"]),
+    ("twh_axil", {"CHANNELS": 32, "CLK_HZ": 24_000_000}, ENGINE_ERROR["CLK_HZ"]),
     ("twh_wb",   {"CHANNELS": 8, "CLK_HZ": 4_000_000}, ENGINE_ERROR["CLK_HZ"]),
     ("twh_axil", {"CHANNELS": 4, "CLK_HZ": 4_000_000}, ENGINE_ERROR["CLK_HZ"]),
     ("twh_wb",   {"CHANNELS": 8, "CLK_HZ": 3_000_000}, ERROR["CLK_HZ"]),

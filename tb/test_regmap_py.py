@@ -146,15 +146,24 @@ def test_build_parameters(channels, depth, clk_hz):
     assert {r.channel for r in rm.absent} == \
         set(range(channels, rm.max_channels))
     assert len(rm.registers) + len(rm.absent) == len(RM.all)
+    # the per-channel fields have one bit for each channel of the build;
     # nothing else moves
+    full = regmap.load(channels=rm.max_channels)
     for r in rm.all:
-        if r.name not in ("VERSION", "PARAMS"):
+        pc = [f for f in r.fields if f.per_channel]
+        for f in pc:
+            assert (f.lsb, f.msb) == (0, channels - 1), (r.name, f)
+            assert f.mask | r.reserved_mask == full[r.name].field(f.name).mask | \
+                full[r.name].reserved_mask
+        if r.name not in ("VERSION", "PARAMS") and not pc:
             assert r == RM[r.name]
+    assert {r.name for r in rm.all if any(f.per_channel for f in r.fields)} == \
+        {"POLL_READY", "IDLE_CHARGE", "BUSY"}
     assert regmap.load(channels=channels)["PARAMS"].reset == RM["PARAMS"].reset
 
 
 @pytest.mark.parametrize("kw", [
-    {"channels": 0}, {"channels": 9}, {"fifo_depth": 0},
+    {"channels": 0}, {"channels": 33}, {"fifo_depth": 0},
     {"fifo_depth": 4096}, {"clk_hz": 999}, {"clk_hz": (1 << 20) * 1000},
     {"clk_hz": 48e6 + 0.5}])
 def test_build_parameters_refused(kw):
@@ -171,7 +180,7 @@ def test_read_after_write():
         status.reset
     errors = RM["ERRORS"]
     assert regmap.read_after_write(errors, 0x1F, 0x11) == 0x0E
-    push = RM["CMD_PUSH"]
+    push = RM["CH[0].CMD_PUSH"]
     assert regmap.read_after_write(push, 0, 0x12345678) == 0
 
 
@@ -207,12 +216,16 @@ def _header_macros():
 
 def test_header_field_macros_match_rdl():
     """Every field's _bm/_bp/_bw/_reset macro agrees with regmap (default
-    build); channel registers share one set of macros."""
+    build, with the per-channel fields at their full 32 channels); channel
+    registers share one set of macros."""
     macros = _header_macros()
     seen = set()
+    full = regmap.load(channels=32)
     for r in RM.all:
         reg = r.name.split(".")[-1]
         for f in r.fields:
+            if f.per_channel:
+                f = full[r.name].field(f.name)
             keys = [k for k in macros if k.endswith(f"__{reg}__{f.name}")]
             assert len(keys) == 1, (r.name, f.name, keys)
             m = macros[keys[0]]

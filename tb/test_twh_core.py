@@ -75,8 +75,7 @@ async def regmap_access(dut):
     # cut a listen short, and the line rests the minimum turnaround (2 ms)
     # however soon software sets IDLE_CHARGE again
     ones = (1 << tb.channels) - 1
-    ctrl_reset = regmap.fields_reset(tb.reg("CTRL"))
-    await tb.write("CTRL", ctrl_reset | tb.pack("CTRL", IDLE_CHARGE=ones))
+    await tb.write("IDLE_CHARGE", ones)
     assert get_sim_time("us") - tb.t_reset_us < 100
     while get_sim_time("us") - tb.t_reset_us < 1995:
         assert all(getattr(dut, f"line_oe_{ch}").value == 0 for ch in range(tb.channels)), \
@@ -86,7 +85,7 @@ async def regmap_access(dut):
     assert all(getattr(dut, f"line_oe_{ch}").value == 1 for ch in range(tb.channels)), \
         "idle charge not driven after the hold-off"
     await Timer(100, "us")                 # a carrier burst, for the monitor
-    await tb.write("CTRL", ctrl_reset)     # back to the reset state
+    await tb.write("IDLE_CHARGE", 0)       # back to the reset state
 
     present = {r.address: r for r in rm.registers}
 
@@ -130,13 +129,17 @@ async def regmap_access(dut):
         await tb.write(name, key ^ 1)
         assert await tb.field("VERSION", fld) == 0, name
 
-    # ---- CTRL: ENABLE and IDLE_CHARGE hold values, FLUSH reads 0
+    # ---- CTRL: ENABLE holds values, FLUSH reads 0; IDLE_CHARGE holds a bit
+    # for each channel of the build (the others read 0)
     ctrl = tb.reg("CTRL")
-    for en, ic in ((0, 0x00), (1, 0xA5), (0, 0x5A), (1, 0xFF), (1, 0x00)):
-        v = tb.pack("CTRL", ENABLE=en, IDLE_CHARGE=ic)
+    for en, ic in ((0, 0x00), (1, 0xA5A5A5A5), (0, 0x5A5A5A5A), (1, 0xFFFFFFFF), (1, 0x00)):
+        v = tb.pack("CTRL", ENABLE=en)
         await tb.write("CTRL", v | ctrl.reserved_mask)
         got = await tb.read("CTRL")
         assert got == v, f"CTRL wrote {v:#x}, read {got:#x}"
+        await tb.write("IDLE_CHARGE", ic)
+        got = await tb.read("IDLE_CHARGE")
+        assert got == ic & ones, f"IDLE_CHARGE wrote {ic:#x}, read {got:#x}"
         # the carrier runs on channels with IDLE_CHARGE set: keep every
         # burst long enough to be a carrier (the monitor judges it)
         for ch in range(tb.channels):
@@ -148,6 +151,7 @@ async def regmap_access(dut):
             await Timer(20, "us")
     await tb.write("CTRL", tb.pack("CTRL", ENABLE=1, FLUSH=1))
     assert await tb.read("CTRL") == tb.pack("CTRL", ENABLE=1), "FLUSH does not read 0"
+    assert await tb.read("IDLE_CHARGE") == 0
     await Timer(20, "us")
     for ch in range(tb.channels):
         assert getattr(dut, f"line_oe_{ch}").value == 0, f"ch{ch} still driven after IDLE_CHARGE=0"
@@ -219,12 +223,17 @@ async def regmap_access(dut):
     assert await tb.read("POLL_READY") == 0
 
     # ---- CMD_PUSH reads 0
-    assert await tb.read("CMD_PUSH") == 0
+    for ch in range(tb.channels):
+        assert await tb.read("CMD_PUSH", ch) == 0
 
-    # ---- unmapped addresses and absent channel blocks: bus error, no effect
+    # ---- unmapped addresses and absent channel blocks: bus error, no
+    # effect but ERRORS.BAD_CHANNEL for a push to an absent channel (its
+    # command is refused: nothing queued)
     before = await snapshot()
-    n_unmapped = 0
-    for a in range(0, 0x200, 4):
+    n_unmapped = n_bad = 0
+    bad_ch = tb.reg("ERRORS").field("BAD_CHANNEL").mask
+    absent_push = {r.address for r in rm.absent if r.name.endswith(".CMD_PUSH")}
+    for a in range(0, 0x800, 4):
         if a in present:
             continue
         n_unmapped += 1
@@ -232,7 +241,13 @@ async def regmap_access(dut):
         assert err, f"read of unmapped {a:#05x} acknowledged"
         assert await tb.write32(a, 0xFFFFFFFF), f"write of unmapped {a:#05x} acknowledged"
         assert await tb.write32(a, 0x00000000), f"write of unmapped {a:#05x} acknowledged"
-    assert n_unmapped == 128 - len(rm.registers)
+        if a in absent_push:
+            n_bad += 1
+            assert await tb.errors() == bad_ch, f"push to absent {a:#05x}: ERRORS {await tb.errors():#x}"
+            await tb.write("ERRORS", bad_ch)
+        assert await tb.errors() == 0, f"access to unmapped {a:#05x}: ERRORS {await tb.errors():#x}"
+    assert n_unmapped == 512 - len(rm.registers)
+    assert n_bad == 32 - tb.channels
     for reg in rm.absent:
         assert reg.address not in present
     after = await snapshot()
@@ -240,12 +255,13 @@ async def regmap_access(dut):
 
     # ---- partial byte enables: error, nothing written
     sels = (0x1, 0x3, 0x7, 0xE, 0xC, 0x8, 0x6) + ((0x0,) if tb.bus_kind == 0 else ())
-    targets = [("CTRL", None, 0x0000FF00), ("IRQ_EN", None, 0x0000FF07),
+    targets = [("CTRL", None, 0x00000000), ("IDLE_CHARGE", None, 0xFFFFFFFF),
+               ("IRQ_EN", None, 0x0000FF07),
                ("TIMING0", 0, tb.pack("TIMING0", 0, CHARGE_US=9000, SYNC_US=1100)),
                ("POLL_CTRL", last, tb.pack("POLL_CTRL", last, CMD=0x41, INTERVAL_MS=5)),
                ("ERRORS", None, 0xFFFFFFFF), ("LAB_KEY", None, LAB_KEY),
                ("FACTORY_KEY", None, FACTORY_KEY),
-               ("CMD_PUSH", None, tb.pack("CMD_PUSH", CMD=0x41, CHANNEL=0, TAG=3))]
+               ("CMD_PUSH", last, tb.pack("CMD_PUSH", last, CMD=0x41, TAG=3))]
     await tb.write_fields("TIMING0", last, CHARGE_US=100, SYNC_US=1000)    # refused: sets an error
     before = await snapshot()
     assert before["ERRORS"] != 0
@@ -331,7 +347,8 @@ async def three_channels(dut):
     plans = {ch: plan_for(tb.profiles[ch], ch) for ch in range(3)}
     # channel 2 keeps its carrier on while idle (IDLE_CHARGE), the others
     # release the line
-    await tb.write_fields("CTRL", ENABLE=1, IDLE_CHARGE=0b100)
+    await tb.write_fields("CTRL", ENABLE=1)
+    await tb.write("IDLE_CHARGE", 0b100)
     pushed = []
     for i in range(4):
         for ch in range(3):
@@ -342,7 +359,7 @@ async def three_channels(dut):
 
     # all three engines busy together
     await tb.wait_until(lambda: _running(tb, (0, 1, 2)), timeout_ms=10)
-    assert await tb.field("STATUS", "BUSY") == 0b111
+    assert await tb.read("BUSY") == 0b111
     for ch in range(3):
         assert (await tb.fields("STATE", ch)).BUSY == 1
 
@@ -412,7 +429,7 @@ async def fifo_edges(dut):
     # nothing starts while disabled
     await Timer(4, "ms")
     assert all(len(tb.txns(ch)) == 0 for ch in range(nch))
-    assert await tb.field("STATUS", "BUSY") == 0
+    assert await tb.read("BUSY") == 0
     for ch in range(nch):
         assert (await tb.fields("STATE", ch)).SLOT_FULL == 0
 
@@ -441,11 +458,12 @@ async def fifo_edges(dut):
     assert lv.RES_LEVEL == depth, lv
     st = await tb.fields("STATUS")
     assert st.RES_FULL == 1 and st.RES_EMPTY == 0, st
-    # STATUS.BUSY: "a transaction is queued in the channel or running, or
+    # BUSY: "a transaction is queued in the channel or running, or
     # its result has yet to enter the result FIFO": each engine ran one
     # transaction more than the FIFO holds, and its result waits in the
     # channel with the engine idle (STATE.BUSY 0)
-    assert st.BUSY == (1 << nch) - 1, f"results wait in every channel, STATUS.BUSY = {st.BUSY:#x}"
+    busy = await tb.read("BUSY")
+    assert busy == (1 << nch) - 1, f"results wait in every channel, BUSY = {busy:#x}"
     for ch in range(nch):
         s = await tb.fields("STATE", ch)
         assert s.BUSY == 0 and s.PHASE == 0, (ch, s)
@@ -678,7 +696,7 @@ async def polling(dut):
     assert await tb.read("POLL_READY") == 0b011
     assert all(bytes(f) == frame(0x48, 0x10) for f in tb.frames(1))
     assert await tb.pop() is None, "a poll result entered the result FIFO"
-    await tb.write("POLL_READY", 0xFF)
+    await tb.write("POLL_READY", 0xFFFFFFFF)
     await tb.clear_errors()
     await tb.finish()
 
@@ -700,14 +718,12 @@ async def random_traffic(dut):
     tb = await CoreTB(dut, cells=("o2_v18", "o2_v15", "co2")).start()
     rm = tb.rm
     present = {r.address: r for r in rm.registers}
-    ctrl = tb.reg("CTRL")
-    ic_mask = ctrl.field("IDLE_CHARGE").mask
     n_err = n_pushed = 0
     for i in range(n):
         if rng.random() < 0.75:
             addr = rng.choice(list(present))
         else:
-            addr = rng.randrange(0, 0x200, 4)
+            addr = rng.randrange(0, 0x800, 4)
         reg = present.get(addr)
         if rng.random() < 0.5:
             v, err = await tb.read32(addr)
@@ -720,16 +736,17 @@ async def random_traffic(dut):
         value = rng.getrandbits(32)
         if reg is not None and reg.name.endswith("TIMING2") and rng.random() < 0.8:
             value &= ~0xF800            # mostly a refused listen (< 2000 us): keeps the lines' times short
-        if reg is not None and reg.name == "CTRL":
-            value &= ~ic_mask           # no idle-charge toggling: bursts of a few us are runts
-        if reg is not None and reg.name == "CMD_PUSH" and rng.random() < 0.7:
-            value &= ~(0x7 << 24)       # mostly a present channel
-            value |= rng.randrange(tb.channels) << 24
+        if reg is not None and reg.name == "IDLE_CHARGE":
+            value = 0                   # no idle-charge toggling: bursts of a few us are runts
+        absent_push = reg is None and any(r.address == addr and r.name.endswith(".CMD_PUSH")
+                                          for r in rm.absent)
         sel = 0xF if rng.random() < 0.9 else rng.choice([0x1, 0x3, 0x7, 0xE, 0xC, 0x8])
         err = await tb.write32(addr, value, sel=sel)
         if reg is None or sel != 0xF:
             assert err, f"#{i} write {addr:#05x} sel {sel:#x} acknowledged"
-        elif reg.name == "CMD_PUSH":
+            if absent_push and sel == 0xF:
+                assert await tb.field("ERRORS", "BAD_CHANNEL") == 1, f"#{i} push to absent {addr:#05x}"
+        elif reg.name.endswith(".CMD_PUSH"):
             n_pushed += not err
         else:
             assert not err, f"#{i} write {reg.name} = {value:#x}: bus error"
@@ -747,7 +764,7 @@ async def random_traffic(dut):
     await tb.wait_idle(timeout_ms=400, drain=True)
     await tb.drain()
     tb.results.clear()
-    await tb.write("POLL_READY", 0xFF)
+    await tb.write("POLL_READY", 0xFFFFFFFF)
     await tb.clear_errors()
     # a random LAB_KEY write may have unlocked a random timing write: any
     # transaction that ran was judged in lab mode only if the lab key was on
@@ -851,7 +868,7 @@ async def irq_and_flush(dut):
     assert r.status == NO_RESPONSE, r
 
     # ---- ENABLE = 0 mid-transaction: the running one finishes, the next
-    # waits in the slot (queued: STATUS.BUSY), nothing starts, no poll runs
+    # waits in the slot (queued: BUSY), nothing starts, no poll runs
     await tb.push(0x40, ch=2, tag=27)
     await tb.push(0x43, ch=2, tag=28)
     await tb.wait_until(lambda: _running(tb, (2,)), timeout_ms=10, poll_us=20)
@@ -865,7 +882,7 @@ async def irq_and_flush(dut):
     assert (await tb.fields("POLL_RESULT", 2)).COUNT == 0
     s = await tb.fields("STATE", 2)
     assert s.SLOT_FULL == 1 and s.PHASE == 0, s
-    busy = await tb.field("STATUS", "BUSY")
+    busy = await tb.read("BUSY")
     # enabled again: the queued command and the polls run
     await tb.write_fields("CTRL", ENABLE=1)
     r = await tb.wait_result(2, 28, timeout_ms=20)
@@ -896,7 +913,7 @@ async def irq_and_flush(dut):
     assert late.status != CANCELLED, "a command pushed after the flush was cancelled by it"
     assert await tb.errors() == 0, "CANCELLED results set an error bit"
     # checked last so that the rest of the test runs first
-    assert busy & 0b100, f"command queued in ch2's slot (ENABLE = 0), STATUS.BUSY = {busy:#x}"
+    assert busy & 0b100, f"command queued in ch2's slot (ENABLE = 0), BUSY = {busy:#x}"
     await tb.finish()
 
 
@@ -956,8 +973,9 @@ async def reset_mid_traffic(dut):
     cocotb.start_soon(watch_oe())
 
     st = await tb.fields("STATUS")
-    assert (st.BUSY, st.CMD_EMPTY, st.RES_EMPTY, st.CMD_FULL, st.RES_FULL, st.FLUSHING) == \
-        (0, 1, 1, 0, 0, 0), st
+    assert (st.CMD_EMPTY, st.RES_EMPTY, st.CMD_FULL, st.RES_FULL, st.FLUSHING) == \
+        (1, 1, 0, 0, 0), st
+    assert await tb.read("BUSY") == 0
     assert await tb.read("LEVELS") == 0
     assert await tb.errors() == 0
     assert await tb.read("POLL_READY") == 0
@@ -1074,7 +1092,7 @@ async def six_channels(dut):
         await tb.push(0x41, ch=ch, tag=ch + 1)
         pushed.append((ch, ch + 1, 0x41))
     await tb.wait_until(lambda: _running(tb, range(tb.channels)), timeout_ms=10)
-    assert await tb.field("STATUS", "BUSY") == 0b111111
+    assert await tb.read("BUSY") == 0b111111
 
     results = await tb.wait_results(6, timeout_ms=TXN_US // 1000 + 20)
     check_order(results, pushed)
@@ -1094,6 +1112,69 @@ async def six_channels(dut):
     # all six ran at once
     firsts = [tb.txns(ch)[0] for ch in range(tb.channels)]
     assert max(t.start_ps for t in firsts) < min(txn_end_ps(t) for t in firsts)
+    assert await tb.errors() == 0          # NO_RESPONSE is no link error
+    await tb.finish()
+
+
+# ============================================================== 12. a rig's worth of cells
+MANY_CELLS = ("o2_v18", "o2_v15", "co2", None)      # every fourth line empty
+
+
+@cocotb.test()
+async def many_channels(dut):
+    """16 or 32 channels (register map version 2; tb_core_many.v): every
+    cell is asked its identity (0x41) at once through its own channel's
+    CMD_PUSH, with the tag of its channel; every line runs concurrently, each
+    result comes back with its channel (5 bits) and tag and its own cell's
+    answer, an empty line gives NO_RESPONSE; the last channel polls (0x44)
+    beside its command and sets its POLL_READY bit; BUSY shows every channel
+    at once; IDLE_CHARGE of the last channel drives that line alone; a push
+    beyond the build's channels is refused with BAD_CHANNEL."""
+    n = int(os.environ["TWH_CHANNELS"])
+    cells = tuple(MANY_CELLS[c % len(MANY_CELLS)] for c in range(n))
+    tb = await CoreTB(dut, cells=cells).start()
+    assert tb.channels == n and tb.many
+    last = n - 1
+    assert await tb.field("VERSION", "CHANNELS") == n
+    assert await tb.field("VERSION", "MAJOR") == 2
+    await tb.write_fields("POLL_CTRL", last, CMD=0x44, PAYLOAD=0xAA, INTERVAL_MS=1, EN=1)
+    pushed = []
+    for ch in range(n):
+        await tb.push(0x41, ch=ch, tag=ch % 32)
+        pushed.append((ch, ch % 32, 0x41))
+    await tb.wait_until(lambda: _running(tb, range(n)), timeout_ms=10)
+    assert await tb.read("BUSY") == (1 << n) - 1
+    if n < 32:
+        assert not await tb.push(0x41, ch=n, expect_err=True)
+        assert await tb.errors() == tb.pack("ERRORS", BAD_CHANNEL=1)
+        await tb.clear_errors()
+
+    results = await tb.wait_results(n, timeout_ms=TXN_US // 1000 + 30)
+    check_order(results, pushed)
+    for r in results:
+        prof = tb.profiles[r.channel]
+        assert r.tag == r.channel % 32, r
+        if prof is None:
+            assert r.status == NO_RESPONSE, r
+        else:
+            assert r.status == OK and r.data == prof.fw_byte << 8 | prof.type_byte, r
+    # every line ran at once
+    firsts = [tb.txns(ch)[0] for ch in range(n)]
+    assert max(t.start_ps for t in firsts) < min(txn_end_ps(t) for t in firsts)
+    # the last channel's poll ran beside its command, and only there
+    await tb.wait_until(lambda: _polls(tb, last, 1), timeout_ms=TXN_US // 1000 + 10)
+    assert await tb.read("POLL_READY") == 1 << last
+    await tb.write_fields("POLL_CTRL", last, CMD=0x44, PAYLOAD=0xAA, INTERVAL_MS=1, EN=0)
+    await tb.write("POLL_READY", 0xFFFFFFFF)
+    await tb.wait_idle(timeout_ms=TXN_US // 1000 + 10)
+    assert all(len(tb.txns(ch)) == 1 for ch in range(last))
+    # idle charge on the last line alone
+    await tb.write("IDLE_CHARGE", 1 << last)
+    assert await tb.read("IDLE_CHARGE") == 1 << last
+    await Timer(100, "us")
+    assert [int(p.line_oe.value) for p in tb.pins] == [0] * last + [1]
+    await tb.write("IDLE_CHARGE", 0)
+    await Timer(20, "us")
     assert await tb.errors() == 0          # NO_RESPONSE is no link error
     await tb.finish()
 
@@ -1187,6 +1268,27 @@ def test_core_both(testcase, bus, clk_hz, channels, fifo_depth):
     simrun.same_on_both(lambda sim, name, seed_name: _case(*c, sim=sim, name=name,
                                                            seed_name=seed_name),
                         core_name(testcase, bus, channels))
+
+
+# A rig's worth of cells on the register map's 32 channels (tb_core_many.v):
+# 16 channels at 16 MHz in make test, 32 at 32 MHz in make test-slow, each on
+# Verilator at its channel count's clock floor.
+def _many(channels, clk_hz):
+    simrun.run("tb_core_many", "test_twh_core", f"core_many_channels_wb_{channels}ch",
+               parameters={"CLK_HZ": clk_hz, "CHANNELS": channels, "FIFO_DEPTH": 64},
+               testcase="many_channels", tb_sources=["tb_engine.v", "tb_core_many.v"],
+               extra_env={"TWH_BUS": "0", "TWH_CHANNELS": str(channels),
+                          "TWH_FIFO_DEPTH": "64", "TWH_CLK_HZ": str(clk_hz)},
+               sim="verilator")
+
+
+def test_core_16ch():
+    _many(16, 16_000_000)
+
+
+@pytest.mark.slow
+def test_core_32ch():
+    _many(32, 32_000_000)
 
 
 # ENGINE = 0, the per-channel twh_channel array the time-shared engine

@@ -7,9 +7,10 @@
 //   write   'W' A D0 D1 D2 D3 C   -> S
 //   status  'S'                   -> S
 //
-// A is the word address (byte address / 4). S = {4'hA, DROPPED, IRQ,
-// FRAME_ERR, BUS_ERR}: BUS_ERR - the access was made and answered with an
-// error (or A is beyond the core's 512-byte window); FRAME_ERR - the check
+// A is the word address (byte address / 4): a 1 KiB window, the core's
+// global registers and channels 0-27 (register map version 2). S = {4'hA,
+// DROPPED, IRQ, FRAME_ERR, BUS_ERR}: BUS_ERR - the access was made and
+// answered with an error; FRAME_ERR - the check
 // byte was wrong and nothing was done (a read still answers four zero
 // bytes, so every answer has the length its opcode promises); IRQ - the
 // core's irq line; DROPPED - bytes were discarded since the last answer.
@@ -31,7 +32,7 @@ module twh_uart_bridge #(
     input  wire        uart_rx,     // pin, asynchronous
     output wire        uart_tx,     // pin
     // Wishbone B4 classic master, 32-bit, byte addresses
-    output wire [8:0]  wb_adr_o,
+    output wire [9:0]  wb_adr_o,
     output wire [31:0] wb_dat_o,
     input  wire [31:0] wb_dat_i,
     output wire        wb_we_o,
@@ -109,7 +110,7 @@ module twh_uart_bridge #(
     wire       shift_out = (state == S_SEND) && tx_valid && tx_ready && left != 3'd0;
 
     // the request registers hold still while the strobe is up
-    assign wb_adr_o = {adr[6:0], 2'b00};
+    assign wb_adr_o = {adr, 2'b00};
     assign wb_dat_o = dat;
     assign wb_we_o  = is_write;
     assign wb_cyc_o = wb_stb_o;
@@ -149,11 +150,6 @@ module twh_uart_bridge #(
                         frame_err <= 1'b1;
                         fault     <= 1'b1;
                         state     <= S_ANSWER;
-                    end else if (adr[7]) begin
-                        // beyond the core's 9-bit byte address: no access
-                        bus_err  <= 1'b1;
-                        fault    <= 1'b1;
-                        state    <= S_ANSWER;
                     end else begin
                         wb_stb_o <= 1'b1;
                         activity <= 1'b1;

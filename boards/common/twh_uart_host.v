@@ -52,7 +52,7 @@ module twh_uart_host #(
     wire rst = !por[4];
 
     // ------------------------------------------------------------ bridge + core
-    wire [8:0]  wb_adr;
+    wire [9:0]  wb_adr;
     wire [31:0] wb_dat_w, wb_dat_r;
     wire        wb_we, wb_stb, wb_cyc, wb_ack, wb_err;
     wire [3:0]  wb_sel;
@@ -69,7 +69,7 @@ module twh_uart_host #(
     twh_wb #(.CLK_HZ(CLK_HZ), .CHANNELS(CHANNELS), .FIFO_DEPTH(FIFO_DEPTH),
              .PROG_TIMING(PROG_TIMING), .POLLING(POLLING)) u_twh (
         .clk(clk), .rst(rst),
-        .wb_adr_i(wb_adr), .wb_dat_i(wb_dat_w), .wb_dat_o(wb_dat_r),
+        .wb_adr_i({1'b0, wb_adr}), .wb_dat_i(wb_dat_w), .wb_dat_o(wb_dat_r),
         .wb_we_i(wb_we), .wb_sel_i(wb_sel), .wb_stb_i(wb_stb), .wb_cyc_i(wb_cyc),
         .wb_ack_o(wb_ack), .wb_err_o(wb_err),
         .irq(irq), .line_o(line_o), .line_oe(line_oe), .line_i(line_i)

@@ -20,7 +20,7 @@ module twh_core #(
     input  wire                rst,
     input  wire                reg_req,
     input  wire                reg_we,
-    input  wire [8:0]          reg_addr,
+    input  wire [10:0]         reg_addr,
     input  wire [31:0]         reg_wdata,
     input  wire [3:0]          reg_wstrb,
     output reg                 reg_ack,

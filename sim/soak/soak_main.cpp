@@ -22,6 +22,7 @@
 #include <memory>
 #include <random>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include <verilated.h>
@@ -48,7 +49,9 @@ constexpr int NCH = SOAK_CHANNELS;
 constexpr double CLK_HZ = SOAK_CLK_HZ;
 constexpr uint64_t CYC_PER_US = SOAK_CLK_HZ / 1000000;
 static_assert(SOAK_CLK_HZ % 1000000 == 0, "the soak steps whole microseconds");
-constexpr int TAGS = 1 << TWH_REGS__CMD_PUSH__TAG_bw;
+constexpr int TAGS = 1 << TWH_REGS__CHANNEL_T__CMD_PUSH__TAG_bw;
+static_assert(NCH >= 1 && NCH <= static_cast<int>(TWH_MAX_CHANNELS),
+              "CHANNELS is 1-32 (register map version 2)");
 
 // the shortest legal transaction (spec table, NOTES.md)
 constexpr uint16_t CHARGE_US = 7000, SYNC_US = 900, PREAMBLE_US = 1800,
@@ -324,8 +327,8 @@ void Soak::tick() {
     d.eval();
     ++cyc_;
     const soak::LineDrive drv = soak::step_channels(periph_, mon_, cyc_, d.line, d.line_o, d.line_oe);
-    d.periph_o = static_cast<uint8_t>(drv.o);
-    d.periph_oe = static_cast<uint8_t>(drv.oe);
+    d.periph_o = static_cast<std::remove_reference_t<decltype(d.periph_o)>>(drv.o);
+    d.periph_oe = static_cast<std::remove_reference_t<decltype(d.periph_oe)>>(drv.oe);
     d.clk = 0;
     d.eval();
 }
@@ -953,10 +956,15 @@ int Soak::run() {
                      std::to_string(periph_[static_cast<size_t>(ch)]->log.size()) +
                      " transactions on the line, " + std::to_string(issued_on_[ch]) + " issued");
     const uint32_t status = access(reg_off(offsetof(twh_regs_t, STATUS)), false, 0);
+    const uint32_t busy = access(reg_off(offsetof(twh_regs_t, BUSY)), false, 0);
     const uint32_t errors = access(reg_off(offsetof(twh_regs_t, ERRORS)), false, 0);
-    if ((status & TWH_REGS__STATUS__BUSY_bm) || !(status & TWH_REGS__STATUS__RES_EMPTY_bm) ||
-        !(status & TWH_REGS__STATUS__CMD_EMPTY_bm))
-        mismatch("core not idle and empty at the end: STATUS 0x" + std::to_string(status));
+    if (busy || !(status & TWH_REGS__STATUS__RES_EMPTY_bm) ||
+        !(status & TWH_REGS__STATUS__CMD_EMPTY_bm)) {
+        char buf[80];
+        std::snprintf(buf, sizeof buf, "core not idle and empty at the end: STATUS 0x%08X, BUSY 0x%08X",
+                      status, busy);
+        mismatch(buf);
+    }
     // link errors are expected (injected faults); nothing else may be flagged
     if (errors & ~static_cast<uint32_t>(TWH_REGS__ERRORS__LINK_ERROR_bm))
         mismatch("ERRORS = " + std::to_string(errors));

@@ -34,7 +34,7 @@ void fz_core_init(fz_core_t *f, fz_in_t *in, int raw, uint8_t channels, uint16_t
     f->depth = depth;
     f->ctrl = M(CTRL, ENABLE);
     f->irq_en = P(1, IRQ_EN, RES_THRESHOLD);
-    for (ch = 0; ch < 8; ch++) {
+    for (ch = 0; ch < FZ_MAX_CH; ch++) {
         f->timing[ch][0] = P(8000, CHANNEL_T__TIMING0, CHARGE_US) | P(1000, CHANNEL_T__TIMING0, SYNC_US);
         f->timing[ch][1] = P(2000, CHANNEL_T__TIMING1, PREAMBLE_US) | P(4000, CHANNEL_T__TIMING1, EXECUTE_US);
         f->timing[ch][2] = P(3000, CHANNEL_T__TIMING2, LISTEN_US) | P(2000, CHANNEL_T__TIMING2, TURNAROUND_US);
@@ -185,6 +185,32 @@ uint8_t fz_step(fz_core_t *f)
 }
 
 /* ------------------------------------------------------------- registers */
+uint32_t fz_present_mask(const fz_core_t *f)
+{
+    return f->channels >= 32u ? 0xFFFFFFFFu : (1u << f->channels) - 1u;
+}
+
+uint32_t fz_busy(const fz_core_t *f)
+{
+    uint32_t v = 0;
+    unsigned i;
+
+    for (i = 0; i < f->cmd_n; i++)
+        v |= 1u << f->cmdq[i].ch;
+    return v & fz_present_mask(f);
+}
+
+/* channel block of off: 1 and *ch, *reg (offset in the block) when off is
+ * inside CH[0..FZ_MAX_CH-1] and word aligned */
+static int ch_block(uint32_t off, unsigned *ch, unsigned *reg)
+{
+    if (off < CH_BASE || off >= CH_BASE + FZ_MAX_CH * CH_STRIDE || (off & 3u) != 0)
+        return 0;
+    *ch = (off - CH_BASE) / CH_STRIDE;
+    *reg = off - CH_BASE - *ch * CH_STRIDE;
+    return 1;
+}
+
 static uint32_t model_read(fz_core_t *f, uint32_t off)
 {
     const fz_res_t *h = &f->resq[0];
@@ -202,9 +228,11 @@ static uint32_t model_read(fz_core_t *f, uint32_t off)
                (f->res_n >= f->depth ? M(STATUS, RES_FULL) : 0) |
                (f->res_n == 0 ? M(STATUS, RES_EMPTY) : 0);
     if (off == OFF(LEVELS)) return P(f->cmd_n, LEVELS, CMD_LEVEL) | P(f->res_n, LEVELS, RES_LEVEL);
-    if (off == OFF(ERRORS) || off == OFF(POLL_READY) || off == OFF(CMD_PUSH) ||
-        off == OFF(LAB_KEY) || off == OFF(FACTORY_KEY))
+    if (off == OFF(ERRORS) || off == OFF(POLL_READY) || off == OFF(LAB_KEY) ||
+        off == OFF(FACTORY_KEY))
         return 0;
+    if (off == OFF(IDLE_CHARGE)) return f->idle_charge;
+    if (off == OFF(BUSY)) return fz_busy(f);
     if (off == OFF(IRQ_EN)) return f->irq_en;
     if (off == OFF(IRQ_STATUS)) return f->res_n ? M(IRQ_STATUS, RESULT) : 0;
     if (off == OFF(RES_INFO)) {
@@ -233,16 +261,13 @@ static uint32_t model_read(fz_core_t *f, uint32_t off)
             f->on_pop(f->hctx, &r);
         return v;
     }
-    if (off >= CH_BASE && off < CH_BASE + 8u * CH_STRIDE && (off & 3u) == 0) {
-        ch = (off - CH_BASE) / CH_STRIDE;
-        reg = off - CH_BASE - ch * CH_STRIDE;
-        if (ch < f->channels) {
-            if (reg == CH_OFF(TIMING0)) return f->timing[ch][0];
-            if (reg == CH_OFF(TIMING1)) return f->timing[ch][1];
-            if (reg == CH_OFF(TIMING2)) return f->timing[ch][2];
-            if (reg == CH_OFF(POLL_CTRL) || reg == CH_OFF(POLL_RESULT) || reg == CH_OFF(STATE))
-                return 0;
-        }
+    if (ch_block(off, &ch, &reg) && ch < f->channels) {
+        if (reg == CH_OFF(TIMING0)) return f->timing[ch][0];
+        if (reg == CH_OFF(TIMING1)) return f->timing[ch][1];
+        if (reg == CH_OFF(TIMING2)) return f->timing[ch][2];
+        if (reg == CH_OFF(POLL_CTRL) || reg == CH_OFF(POLL_RESULT) || reg == CH_OFF(STATE) ||
+            reg == CH_OFF(CMD_PUSH))
+            return 0;
     }
     f->bus_errors++;
     return 0;
@@ -285,14 +310,15 @@ static uint32_t fz_read32(void *ctx, uint32_t off)
     return v;
 }
 
-static void do_push(fz_core_t *f, uint32_t v)
+/* a write of CH[ch].CMD_PUSH: the channel is the block's */
+static void do_push(fz_core_t *f, unsigned ch, uint32_t v)
 {
     fz_cmd_t c;
 
-    c.cmd = (uint8_t)F(v, CMD_PUSH, CMD);
-    c.payload = (uint16_t)F(v, CMD_PUSH, PAYLOAD);
-    c.ch = (uint8_t)F(v, CMD_PUSH, CHANNEL);
-    c.tag = (uint8_t)F(v, CMD_PUSH, TAG);
+    c.cmd = (uint8_t)F(v, CHANNEL_T__CMD_PUSH, CMD);
+    c.payload = (uint16_t)F(v, CHANNEL_T__CMD_PUSH, PAYLOAD);
+    c.ch = (uint8_t)ch;
+    c.tag = (uint8_t)F(v, CHANNEL_T__CMD_PUSH, TAG);
     c.cancelled = 0;
     c.seq = f->next_seq++;
     if (f->any_push && c.tag != ((f->last_tag + 1u) & 31u))
@@ -306,8 +332,14 @@ static void do_push(fz_core_t *f, uint32_t v)
     f->obs.pushes++;
     f->obs.last_push = c;
     if (!f->raw) {
-        /* a push into a full FIFO or to an absent channel is a bus error */
-        if (c.ch >= f->channels || f->cmd_n >= f->depth) {
+        /* a push into an absent channel's block (ERRORS.BAD_CHANNEL) or
+         * into a full FIFO (CMD_OVERFLOW) is a bus error */
+        if (c.ch >= f->channels) {
+            f->bad_channel++;
+            f->bus_errors++;
+            return;
+        }
+        if (f->cmd_n >= f->depth) {
             f->bus_errors++;
             return;
         }
@@ -337,8 +369,10 @@ static void fz_write32(void *ctx, uint32_t off, uint32_t v)
     fz_core_t *f = ctx;
     unsigned ch, reg, i;
 
-    if (off == OFF(CMD_PUSH)) {
-        do_push(f, v);
+    f->obs.last_write_off = off;
+    f->obs.last_write_val = v;
+    if (ch_block(off, &ch, &reg) && reg == CH_OFF(CMD_PUSH)) {
+        do_push(f, ch, v);
         return;
     }
     if (off == OFF(CTRL)) {
@@ -346,15 +380,13 @@ static void fz_write32(void *ctx, uint32_t off, uint32_t v)
         f->obs.last_ctrl = v;
         if (f->raw)
             return;
-        f->ctrl = v & (M(CTRL, ENABLE) | M(CTRL, IDLE_CHARGE));
+        f->ctrl = v & M(CTRL, ENABLE);
         if (v & M(CTRL, FLUSH))
             for (i = 0; i < f->cmd_n; i++)
                 f->cmdq[i].cancelled = 1;
         return;
     }
-    if (off >= CH_BASE && off < CH_BASE + 8u * CH_STRIDE && (off & 3u) == 0) {
-        ch = (off - CH_BASE) / CH_STRIDE;
-        reg = off - CH_BASE - ch * CH_STRIDE;
+    if (ch_block(off, &ch, &reg)) {
         f->obs.timing_writes++;
         if (f->raw)
             return;
@@ -375,6 +407,11 @@ static void fz_write32(void *ctx, uint32_t off, uint32_t v)
     }
     if (off == OFF(ERRORS))
         return;
+    if (off == OFF(IDLE_CHARGE)) {
+        /* bits of absent channels ignore writes */
+        f->idle_charge = v & fz_present_mask(f);
+        return;
+    }
     /* read-only registers, keys: the driver has no business writing them */
     f->bus_errors++;
 }

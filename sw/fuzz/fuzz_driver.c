@@ -3,7 +3,7 @@
  * device on each channel.
  *
  * Input: flags (bit 0: wait_irq hook), the offset of the event bytes (u16
- * LE), channels, FIFO depth, timeout, one device description per channel
+ * LE), channels (1 + byte % 32), FIFO depth, timeout, one device description per channel
  * (flags: absent, area filled with a sequence; flash size, firmware and
  * type bytes, config bits, ADC answers, the sequence, programmed words),
  * then operations (op byte and arguments) up
@@ -21,11 +21,15 @@
  *   blocking call never takes another command's result for its own;
  * - the stash holds exactly the popped results not yet handed out, in
  *   order; twh_poll = stash + results in the core;
- * - no bus access a real core answers with an error (absent channel, push
- *   into a full FIFO, unknown or read-only register), RES_POP only after a
- *   VALID RES_INFO, tags count up by one, no erase or write of words
- *   0x00-0x1F ever pushed; twh_cal_append erases and writes only inside
- *   the calibration area of the size it was answered;
+ * - no bus access a real core answers with an error (absent channel's
+ *   block, push into a full FIFO, unknown or read-only register), each push
+ *   into the CMD_PUSH of the channel asked for, RES_POP only after a VALID
+ *   RES_INFO, tags count up by one, no erase or write of words 0x00-0x1F
+ *   ever pushed; twh_cal_append erases and writes only inside the
+ *   calibration area of the size it was answered;
+ * - twh_busy is the BUSY bits of the channels with commands queued;
+ *   twh_set_idle_charge sets IDLE_CHARGE to a mask of present channels and
+ *   refuses (no bus access) one with a bit of an absent channel;
  * - every call returns a documented code and writes outputs only on
  *   success; refused arguments push nothing; timing writes keep
  *   PREAMBLE_US; twh_set_execute_us succeeds exactly inside the core's
@@ -150,10 +154,11 @@ static void check_invariants(const harness_t *h)
     for (i = 0; i < h->n_shadow; i++)
         FZ_CHECK(same(&h->t.stash[(h->t.stash_head + i) % TWH_STASH_SIZE], &h->shadow[i]));
     FZ_EQ(h->f.bus_errors, 0);
+    FZ_EQ(h->f.bad_channel, 0);
     FZ_EQ(h->f.order_errors, 0);
     FZ_EQ(h->f.factory_pushes, 0);
     FZ_EQ(h->f.tag_errors, 0);
-    for (ch = 0; ch < 8; ch++)
+    for (ch = 0; ch < FZ_MAX_CH; ch++)
         FZ_EQ(GETF(h->f.timing[ch][1], CHANNEL_T__TIMING1, PREAMBLE_US), 2000);
 }
 
@@ -280,6 +285,7 @@ static void op_submit(harness_t *h, uint8_t ch, uint8_t cmd, uint16_t payload)
     } else {
         FZ_EQ(rc, tag);
         FZ_EQ(h->f.obs.pushes, 1);
+        FZ_EQ(h->f.obs.last_push.ch, ch);
     }
     check_invariants(h);
 }
@@ -314,7 +320,7 @@ static void op_xfer(harness_t *h, uint8_t ch, uint8_t cmd, uint16_t payload)
 
 static void op_helper(harness_t *h, uint8_t op, uint8_t sub, uint8_t ch, uint16_t a, uint16_t b)
 {
-    const fz_dev_t *dv = &h->f.dev[ch < 8 ? ch : 0];
+    const fz_dev_t *dv = &h->f.dev[ch < FZ_MAX_CH ? ch : 0];
     fz_dev_t before;
     union {
         struct { uint8_t bits; uint16_t words; } cfg;
@@ -460,7 +466,7 @@ static void op_helper(harness_t *h, uint8_t op, uint8_t sub, uint8_t ch, uint16_
         break;
     case 14:
         if (sub & 1u) {
-            uint32_t old = ch < 8u ? h->f.timing[ch][1] : 0;
+            uint32_t old = ch < FZ_MAX_CH ? h->f.timing[ch][1] : 0;
 
             rc = twh_set_execute_us(&h->t, ch, a);
             check_invariants(h);
@@ -473,6 +479,27 @@ static void op_helper(harness_t *h, uint8_t op, uint8_t sub, uint8_t ch, uint16_
                 FZ_EQ(rc, want ? TWH_OK : TWH_ERR_REFUSED);
                 FZ_EQ(GETF(h->f.timing[ch][1], CHANNEL_T__TIMING1, EXECUTE_US),
                       want ? a : GETF(old, CHANNEL_T__TIMING1, EXECUTE_US));
+            }
+            break;
+        }
+        if (sub & 2u) {
+            /* IDLE_CHARGE: a mask of channels; with sub bit 2 only present ones */
+            uint32_t mask = (uint32_t)a | (uint32_t)b << 16, old = h->f.idle_charge;
+
+            if (sub & 4u)
+                mask &= fz_present_mask(&h->f);
+
+            rc = twh_set_idle_charge(&h->t, mask);
+            check_invariants(h);
+            FZ_EQ(h->f.obs.pushes + h->f.obs.reads, 0);
+            if (mask & ~fz_present_mask(&h->f)) {
+                FZ_EQ(rc, TWH_ERR_BAD_ARG);
+                FZ_EQ(h->f.obs.other_writes, 0);
+                FZ_EQ(h->f.idle_charge, old);
+            } else {
+                FZ_EQ(rc, TWH_OK);
+                FZ_EQ(h->f.obs.other_writes, 1);
+                FZ_EQ(h->f.idle_charge, mask);
             }
             break;
         }
@@ -575,7 +602,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     } else {
         fz_init(&ev, data, 0);
     }
-    channels = (uint8_t)(1u + fz_u8(&in) % 8u);
+    channels = (uint8_t)(1u + fz_u8(&in) % FZ_MAX_CH);
     depth = (uint16_t)(FZ_DEPTH_MAX >> (fz_u8(&in) % 5u));
     fz_core_init(&h->f, &ev, 0, channels, depth);
     h->f.on_push = on_push;
@@ -596,7 +623,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         if (h->outstanding >= DRAIN_AT)
             drain(h);
         op = fz_u8(&in) % 16u;
-        ch = fz_u8(&in) % 9u;
+        ch = fz_u8(&in) % (FZ_MAX_CH + 1u);   /* FZ_MAX_CH: never a channel */
         switch (op) {
         case 0:
             cmd = fz_u8(&in);
@@ -607,6 +634,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             begin(h, 0);
             rc = twh_poll(&h->t);
             FZ_EQ(rc, h->t.stash_count + h->f.res_n);
+            /* BUSY: the channels with a command queued, nothing else */
+            FZ_EQ(twh_busy(&h->t), fz_busy(&h->f));
+            FZ_EQ(fz_busy(&h->f) & ~fz_present_mask(&h->f), 0);
             check_invariants(h);
             break;
         case 2:

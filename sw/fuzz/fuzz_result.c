@@ -14,14 +14,17 @@
  * - the driver's stash equals that copy, in order (nothing lost, nothing
  *   duplicated, nothing reordered), never more than TWH_STASH_SIZE;
  * - RES_POP is read only right after a RES_INFO that showed VALID;
- * - twh_init succeeds exactly for the right ID, major version, 1-8
+ * - twh_init succeeds exactly for the right ID, major version (2), 1-32
  *   channels and a FIFO depth > 0, and otherwise leaves channels 0;
  * - twh_poll = stash + RES_LEVEL; twh_result serves the stash first without
  *   a bus access, else RES_INFO then RES_POP: TWH_ERR_AGAIN without VALID,
  *   the popped result when RES_POP agrees, TWH_ERR_BUS when it does not;
  * - twh_submit refuses absent channels and factory-area erase/write with no
  *   bus access, a full FIFO with no push, else pushes once with the next
- *   tag; twh_cancel_all writes CTRL as read plus FLUSH;
+ *   tag, into the channel's own CMD_PUSH; twh_cancel_all writes CTRL as
+ *   read plus FLUSH; twh_set_idle_charge refuses a mask with a bit of an
+ *   absent channel with no bus access, else writes it to IDLE_CHARGE and
+ *   nothing else; twh_busy returns BUSY as read, one read;
  * - blocking calls return a documented code; the status code of a result
  *   comes back only when the own result was popped, and is
  *   twh_status_err() of it; TWH_ERR_BUS exactly when a RES_POP disagreed;
@@ -311,7 +314,7 @@ static void op_helper(harness_t *h, uint8_t which, uint8_t ch, uint16_t a, uint1
 
     begin(h, 0);
     memset(&o, FZ_POISON, sizeof(o));
-    switch (which % 13u) {
+    switch (which % 15u) {
     case 0:
         rc = twh_config(&h->t, ch, &o.cfg.bits, &o.cfg.words);
         end_blocking(h, rc);
@@ -335,8 +338,8 @@ static void op_helper(harness_t *h, uint8_t which, uint8_t ch, uint16_t a, uint1
         }
         break;
     case 2: case 3: case 4:
-        rc = (which % 13u) == 2 ? twh_ref_voltage(&h->t, ch, &o.v)
-           : (which % 13u) == 3 ? twh_temperature(&h->t, ch, &o.v)
+        rc = (which % 15u) == 2 ? twh_ref_voltage(&h->t, ch, &o.v)
+           : (which % 15u) == 3 ? twh_temperature(&h->t, ch, &o.v)
                                 : twh_o2_voltage(&h->t, ch, &o.v);
         end_blocking(h, rc);
         check_single(h, rc, &e);
@@ -463,6 +466,31 @@ static void op_helper(harness_t *h, uint8_t which, uint8_t ch, uint16_t a, uint1
         }
         break;
     }
+    case 13: {
+        uint32_t mask = (uint32_t)a | (uint32_t)b << 16;
+
+        rc = twh_set_idle_charge(&h->t, mask);
+        FZ_EQ(h->f.obs.pushes + h->f.obs.reads + h->f.obs.timing_writes + h->f.obs.ctrl_writes, 0);
+        if (!h->t.channels || (h->t.channels < 32u && (mask >> h->t.channels) != 0)) {
+            FZ_EQ(rc, TWH_ERR_BAD_ARG);
+            FZ_EQ(h->f.obs.other_writes, 0);
+        } else {
+            FZ_EQ(rc, TWH_OK);
+            FZ_EQ(h->f.obs.other_writes, 1);
+            FZ_EQ(h->f.obs.last_write_off, offsetof(twh_regs_t, IDLE_CHARGE));
+            FZ_EQ(h->f.obs.last_write_val, mask);
+        }
+        break;
+    }
+    case 14: {
+        uint32_t busy = fz_peek_u32(h->f.in, 0);
+
+        FZ_EQ(twh_busy(&h->t), busy);
+        FZ_EQ(h->f.obs.reads, 1);
+        FZ_EQ(h->f.obs.pushes + h->f.obs.other_writes + h->f.obs.timing_writes +
+              h->f.obs.ctrl_writes, 0);
+        break;
+    }
     case 11:
         h->in_cal = 1;
         rc = twh_cal_append(&h->t, ch, a, b, &o.v);
@@ -510,7 +538,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     depth = GETF(par, PARAMS, FIFO_DEPTH);
     ok = id == TWH_REGS__ID__MAGIC_reset &&
          GETF(ver, VERSION, MAJOR) == TWH_REGS__VERSION__MAJOR_reset &&
-         chans >= 1 && chans <= 8 && depth > 0;
+         chans >= 1 && chans <= TWH_MAX_CHANNELS && depth > 0;
     rc = twh_init(&h->t, &plat);
     FZ_EQ(rc, ok ? TWH_OK : TWH_ERR_BAD_ID);
     FZ_EQ(h->t.channels, ok ? chans : 0u);
@@ -525,7 +553,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 
     while (!fz_empty(&in) && ops++ < 200u) {
         op = fz_u8(&in);
-        ch = fz_u8(&in) % 9u;
+        ch = fz_u8(&in) % (TWH_MAX_CHANNELS + 1u);   /* 32: never a channel */
         switch (op % 6u) {
         case 0:
             v = fz_peek_u32(&in, 0);

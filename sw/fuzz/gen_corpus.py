@@ -7,6 +7,9 @@ Writes build/fuzz/corpus/<harness>/<name>.bin (not committed). Each seed is
 laid out the way its harness reads its input (see the comment at the top of
 sw/fuzz/fuzz_<harness>.c): the flash images, texts, dates, conversions and
 frames of tb/vectors/ become the starting points the fuzzer mutates.
+The register words of the driver harnesses' seeds are packed with the
+field positions of the generated sw/include/twh_regs.h (register map
+version 2: up to 32 channels, 5-bit channel fields).
 Standard library only. Fails when a vector file misses a section it needs.
 """
 from __future__ import annotations
@@ -14,12 +17,34 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import re
 import struct
 import sys
 
 BLANK = 0x3FFF
 MAGIC = 0x54574831
 HARNESSES = ("map", "cal_scan", "text", "datetime", "convert", "encode", "result", "driver")
+REGS_H = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "include", "twh_regs.h")
+
+
+def load_fields(path=REGS_H):
+    """TWH_REGS__<REG>__<FIELD>_bp/_bm/_reset of the generated header"""
+    with open(path) as f:
+        text = f.read()
+    return {m[0]: int(m[1], 0) for m in re.findall(r"#define TWH_REGS__(\w+) (0x[0-9a-fA-F]+|\d+)", text)}
+
+
+FLD = load_fields()
+
+
+def pack(reg: str, **fields) -> int:
+    """a register word from field values, e.g. pack("RES_INFO", CMD=0x41, VALID=1)"""
+    v = 0
+    for name, x in fields.items():
+        bp, bm = FLD[f"{reg}__{name}_bp"], FLD[f"{reg}__{name}_bm"]
+        assert (x << bp) & bm == x << bp, f"{reg}.{name} = {x} does not fit"
+        v |= x << bp
+    return v
 
 
 def u16(v: int) -> bytes:
@@ -162,21 +187,42 @@ def responses(vec):
     return out
 
 
+def result_init(channels: int) -> bytes:
+    """the result harness's first bytes: flags, then what twh_init reads
+    (ID, VERSION, PARAMS), the timeout and poll step"""
+    version = pack("VERSION", MAJOR=FLD["VERSION__MAJOR_reset"], CHANNELS=channels)
+    params = pack("PARAMS", FIFO_DEPTH=16, CLK_KHZ=48000)
+    return bytes([0]) + u32(MAGIC) + u32(version) + u32(params) + bytes([64, 0])
+
+
+def result_xfer(ch: int, cmd: int, data: int, tag: int) -> bytes:
+    """op 0x81 % 6 = 3: twh_xfer, bit 7: with a data pointer; then the
+    register values it reads: STATUS (room), RES_INFO, RES_POP"""
+    info = pack("RES_INFO", CMD=cmd, STATUS=0, CHANNEL=ch, VALID=1, TAG=tag)
+    pop = pack("RES_POP", DATA=data, STATUS=0, CHANNEL=ch, VALID=1, TAG=tag)
+    return bytes([0x81, ch, cmd]) + u16(0xAA) + u32(0) + u32(info) + u32(pop)
+
+
 def gen_result(out, vec):
     """raw mode: init reads, then one blocking transfer per response vector
     answered by the register values a real core would give."""
-    init = bytes([0]) + u32(MAGIC) + u32(1 << 8 | 2 << 16) + u32(16 | 48000 << 12) + bytes([64, 0])
+    init = result_init(2)
     body = b""
     for tag, (cmd, data) in enumerate(responses(vec)):
-        info = cmd | 0 << 8 | 0 << 12 | 1 << 15 | tag << 16
-        pop = data | 0 << 16 | 0 << 20 | 1 << 23 | tag << 24
-        # op 0x81 % 6 = 3: twh_xfer, bit 7: with a data pointer; channel 0
-        step = bytes([0x81, 0, cmd]) + u16(0xAA) + u32(0) + u32(info) + u32(pop)
+        step = result_xfer(0, cmd, data, tag)
         out("result", f"xfer{tag}", init + step)
         body += step
     # then poll, result (empty), cancel
     body += bytes([0, 0]) + u32(0) + bytes([1, 0]) + u32(0) + bytes([4, 0]) + u32(1)
     out("result", "all", init + body)
+    # a 32-channel core: transfers on channels 31 and 16 (a 3-bit channel
+    # field would alias them with 7 and 0), idle charge on channel 20 and
+    # BUSY (helpers 13 and 14)
+    cmd, data = responses(vec)[0]
+    body = result_xfer(31, cmd, data, 0) + result_xfer(16, cmd, data, 1)
+    body += bytes([5, 0, 13]) + u16(0) + u16(1 << 4) + bytes([5, 0, 14]) + u16(0) + u16(0) \
+        + u32(1 << 31 | 1 << 20)
+    out("result", "ch32", result_init(32) + body)
 
 
 def dev_seed(words, fw: int, typ: int, fill=None) -> bytes:
@@ -222,6 +268,20 @@ def gen_driver(out, imgs):
         ops += helper(15, a=4000 + i, b=3600 + i, ch=i % 2)
     ops += bytes([4, 0]) + bytes([1, 0]) + bytes([2, 0]) * 8
     out("driver", "two_channels", head + ops)
+    # 32 channels (1 + 31 % 32), the O2 v18 map on channel 31 and a CO2 cell
+    # on 20, none on the others; traffic on 31 and 20, idle charge (helper
+    # 14, sub 2 | 4: present channels only), BUSY with commands queued
+    absent = bytes([0x80]) + bytes(12)
+    co2_name, _, co2_words, _ = imgs[2]
+    devs = [absent] * 32
+    devs[20] = dev_seed(co2_words, 0x26, 2)
+    devs[31] = dev_seed(words, 0x12, 1)
+    head = bytes([1]) + u16(0xFFFF) + bytes([31, 0, 3]) + b"".join(devs)
+    ops = helper(7, ch=31) + helper(14, ch=31) + helper(6, ch=20) + helper(10, a=0x16, ch=31)
+    ops += bytes([0, 31, 0x44]) + u16(0xAA) + bytes([0, 20, 0x44]) + u16(0xAA) + bytes([1, 0])
+    ops += helper(14, sub=6, a=0, b=(1 << 15) | (1 << 4)) + bytes([2, 0]) * 2
+    ops += helper(15, a=4000, b=3600, ch=31)
+    out("driver", "ch32", head + ops)
 
 
 def main() -> int:

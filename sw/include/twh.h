@@ -69,6 +69,11 @@ enum twh_err {
 #define TWH_CMD_WRITE         0x80u        /* | address bits 6:0 */
 #define TWH_UNUSED_PAYLOAD    0xAAu
 
+/* channels a core can have (VERSION.CHANNELS 1-32, register map version 2:
+ * channel n has its register block, CMD_PUSH included, at 0x80 + 0x20 * n;
+ * IDLE_CHARGE, BUSY and POLL_READY have bit n for channel n) */
+#define TWH_MAX_CHANNELS      32u
+
 /* hardware result status codes (RES_INFO.STATUS, docs/protocol.md) */
 #define TWH_ST_OK             0u
 #define TWH_ST_NO_RESPONSE    1u
@@ -123,7 +128,7 @@ typedef struct twh {
     uint32_t poll_us;        /* delay between looks without wait_irq */
     uint32_t clk_khz;        /* PARAMS.CLK_KHZ */
     uint16_t fifo_depth;     /* PARAMS.FIFO_DEPTH */
-    uint8_t  channels;       /* VERSION.CHANNELS (0 until init succeeded) */
+    uint8_t  channels;       /* VERSION.CHANNELS, 1-32 (0 until init succeeded) */
     uint8_t  version_major;
     uint8_t  version_minor;
     uint8_t  fixed_timing;   /* VERSION.FIXED_TIMING: a lean build, timing read-only */
@@ -191,14 +196,15 @@ typedef struct twh_map {
 
 /* ------------------------------------------------------------ core access */
 /* Probe the core: ID magic, VERSION (major must be the one this driver was
- * generated for, 1-8 channels), PARAMS. Copies *plat. With plat->wait_irq
- * it also sets IRQ_EN.RESULT. Queued results are left alone. */
+ * generated for, 2, and 1-32 channels), PARAMS. Copies *plat. With
+ * plat->wait_irq it also sets IRQ_EN.RESULT. Queued results are left alone. */
 int      twh_init(twh_t *t, const twh_platform_t *plat);
 uint32_t twh_sizeof(void);   /* sizeof(twh_t), for foreign-language callers */
 
 /* Non-blocking. twh_submit returns the tag (0-31) it gave the command, or an
  * error; it checks STATUS.CMD_FULL first and refuses absent channels and
- * erase/write of words 0x00-0x1F (TWH_ERR_BAD_ARG) before any bus write. */
+ * erase/write of words 0x00-0x1F (TWH_ERR_BAD_ARG) before any bus write.
+ * The command goes to the channel's own CMD_PUSH (CH[ch].CMD_PUSH). */
 int twh_submit(twh_t *t, uint8_t ch, uint8_t cmd, uint16_t payload);
 /* number of results ready (stash + core result FIFO), >= 0 */
 int twh_poll(twh_t *t);
@@ -210,6 +216,14 @@ int twh_result(twh_t *t, twh_result_t *r);
 int twh_status_err(uint8_t status, uint8_t cmd);
 /* CTRL.FLUSH: every command not yet started ends with status CANCELLED */
 int twh_cancel_all(twh_t *t);
+/* IDLE_CHARGE = mask: bit n = 1 keeps channel n's carrier on while the
+ * channel is idle (charging), 0 releases the line. A bit of an absent
+ * channel (or a core twh_init refused): TWH_ERR_BAD_ARG, nothing written. */
+int twh_set_idle_charge(twh_t *t, uint32_t mask);
+/* The BUSY register: bit n set while channel n has a command queued or
+ * running, a poll running, or a result waiting to enter the result FIFO.
+ * Bits of absent channels read 0. */
+uint32_t twh_busy(twh_t *t);
 
 /* Blocking: submit, then wait for this command's own result (channel + tag +
  * command); other results arriving meanwhile go to the stash. *data may be

@@ -24,11 +24,7 @@ extern "C" {
 #define TWH_REGS__VERSION__MAJOR_bm 0xff00
 #define TWH_REGS__VERSION__MAJOR_bp 8
 #define TWH_REGS__VERSION__MAJOR_bw 8
-#define TWH_REGS__VERSION__MAJOR_reset 0x1
-#define TWH_REGS__VERSION__CHANNELS_bm 0xf0000
-#define TWH_REGS__VERSION__CHANNELS_bp 16
-#define TWH_REGS__VERSION__CHANNELS_bw 4
-#define TWH_REGS__VERSION__CHANNELS_reset 0x1
+#define TWH_REGS__VERSION__MAJOR_reset 0x2
 #define TWH_REGS__VERSION__FIXED_TIMING_bm 0x100000
 #define TWH_REGS__VERSION__FIXED_TIMING_bp 20
 #define TWH_REGS__VERSION__FIXED_TIMING_bw 1
@@ -37,6 +33,10 @@ extern "C" {
 #define TWH_REGS__VERSION__NO_POLLING_bp 21
 #define TWH_REGS__VERSION__NO_POLLING_bw 1
 #define TWH_REGS__VERSION__NO_POLLING_reset 0x0
+#define TWH_REGS__VERSION__CHANNELS_bm 0x3f000000
+#define TWH_REGS__VERSION__CHANNELS_bp 24
+#define TWH_REGS__VERSION__CHANNELS_bw 6
+#define TWH_REGS__VERSION__CHANNELS_reset 0x1
 #define TWH_REGS__VERSION__LAB_UNLOCKED_bm 0x40000000
 #define TWH_REGS__VERSION__LAB_UNLOCKED_bp 30
 #define TWH_REGS__VERSION__LAB_UNLOCKED_bw 1
@@ -65,16 +65,8 @@ extern "C" {
 #define TWH_REGS__CTRL__FLUSH_bp 1
 #define TWH_REGS__CTRL__FLUSH_bw 1
 #define TWH_REGS__CTRL__FLUSH_reset 0x0
-#define TWH_REGS__CTRL__IDLE_CHARGE_bm 0xff00
-#define TWH_REGS__CTRL__IDLE_CHARGE_bp 8
-#define TWH_REGS__CTRL__IDLE_CHARGE_bw 8
-#define TWH_REGS__CTRL__IDLE_CHARGE_reset 0x0
 
 // reg - twh_regs::STATUS
-#define TWH_REGS__STATUS__BUSY_bm 0xff
-#define TWH_REGS__STATUS__BUSY_bp 0
-#define TWH_REGS__STATUS__BUSY_bw 8
-#define TWH_REGS__STATUS__BUSY_reset 0x0
 #define TWH_REGS__STATUS__CMD_FULL_bm 0x100
 #define TWH_REGS__STATUS__CMD_FULL_bp 8
 #define TWH_REGS__STATUS__CMD_FULL_bw 1
@@ -161,28 +153,10 @@ extern "C" {
 #define TWH_REGS__IRQ_STATUS__POLL_reset 0x0
 
 // reg - twh_regs::POLL_READY
-#define TWH_REGS__POLL_READY__READY_bm 0xff
+#define TWH_REGS__POLL_READY__READY_bm 0xffffffff
 #define TWH_REGS__POLL_READY__READY_bp 0
-#define TWH_REGS__POLL_READY__READY_bw 8
+#define TWH_REGS__POLL_READY__READY_bw 32
 #define TWH_REGS__POLL_READY__READY_reset 0x0
-
-// reg - twh_regs::CMD_PUSH
-#define TWH_REGS__CMD_PUSH__CMD_bm 0xff
-#define TWH_REGS__CMD_PUSH__CMD_bp 0
-#define TWH_REGS__CMD_PUSH__CMD_bw 8
-#define TWH_REGS__CMD_PUSH__CMD_reset 0x0
-#define TWH_REGS__CMD_PUSH__PAYLOAD_bm 0xffff00
-#define TWH_REGS__CMD_PUSH__PAYLOAD_bp 8
-#define TWH_REGS__CMD_PUSH__PAYLOAD_bw 16
-#define TWH_REGS__CMD_PUSH__PAYLOAD_reset 0x0
-#define TWH_REGS__CMD_PUSH__CHANNEL_bm 0x7000000
-#define TWH_REGS__CMD_PUSH__CHANNEL_bp 24
-#define TWH_REGS__CMD_PUSH__CHANNEL_bw 3
-#define TWH_REGS__CMD_PUSH__CHANNEL_reset 0x0
-#define TWH_REGS__CMD_PUSH__TAG_bm 0xf8000000
-#define TWH_REGS__CMD_PUSH__TAG_bp 27
-#define TWH_REGS__CMD_PUSH__TAG_bw 5
-#define TWH_REGS__CMD_PUSH__TAG_reset 0x0
 
 // reg - twh_regs::RES_INFO
 #define TWH_REGS__RES_INFO__CMD_bm 0xff
@@ -193,10 +167,6 @@ extern "C" {
 #define TWH_REGS__RES_INFO__STATUS_bp 8
 #define TWH_REGS__RES_INFO__STATUS_bw 4
 #define TWH_REGS__RES_INFO__STATUS_reset 0x0
-#define TWH_REGS__RES_INFO__CHANNEL_bm 0x7000
-#define TWH_REGS__RES_INFO__CHANNEL_bp 12
-#define TWH_REGS__RES_INFO__CHANNEL_bw 3
-#define TWH_REGS__RES_INFO__CHANNEL_reset 0x0
 #define TWH_REGS__RES_INFO__VALID_bm 0x8000
 #define TWH_REGS__RES_INFO__VALID_bp 15
 #define TWH_REGS__RES_INFO__VALID_bw 1
@@ -205,6 +175,10 @@ extern "C" {
 #define TWH_REGS__RES_INFO__TAG_bp 16
 #define TWH_REGS__RES_INFO__TAG_bw 5
 #define TWH_REGS__RES_INFO__TAG_reset 0x0
+#define TWH_REGS__RES_INFO__CHANNEL_bm 0x1f000000
+#define TWH_REGS__RES_INFO__CHANNEL_bp 24
+#define TWH_REGS__RES_INFO__CHANNEL_bw 5
+#define TWH_REGS__RES_INFO__CHANNEL_reset 0x0
 
 // reg - twh_regs::RES_POP
 #define TWH_REGS__RES_POP__DATA_bm 0xffff
@@ -215,16 +189,16 @@ extern "C" {
 #define TWH_REGS__RES_POP__STATUS_bp 16
 #define TWH_REGS__RES_POP__STATUS_bw 4
 #define TWH_REGS__RES_POP__STATUS_reset 0x0
-#define TWH_REGS__RES_POP__CHANNEL_bm 0x700000
+#define TWH_REGS__RES_POP__CHANNEL_bm 0x1f00000
 #define TWH_REGS__RES_POP__CHANNEL_bp 20
-#define TWH_REGS__RES_POP__CHANNEL_bw 3
+#define TWH_REGS__RES_POP__CHANNEL_bw 5
 #define TWH_REGS__RES_POP__CHANNEL_reset 0x0
-#define TWH_REGS__RES_POP__VALID_bm 0x800000
-#define TWH_REGS__RES_POP__VALID_bp 23
+#define TWH_REGS__RES_POP__VALID_bm 0x2000000
+#define TWH_REGS__RES_POP__VALID_bp 25
 #define TWH_REGS__RES_POP__VALID_bw 1
 #define TWH_REGS__RES_POP__VALID_reset 0x0
-#define TWH_REGS__RES_POP__TAG_bm 0x1f000000
-#define TWH_REGS__RES_POP__TAG_bp 24
+#define TWH_REGS__RES_POP__TAG_bm 0x7c000000
+#define TWH_REGS__RES_POP__TAG_bp 26
 #define TWH_REGS__RES_POP__TAG_bw 5
 #define TWH_REGS__RES_POP__TAG_reset 0x0
 
@@ -239,6 +213,18 @@ extern "C" {
 #define TWH_REGS__FACTORY_KEY__KEY_bp 0
 #define TWH_REGS__FACTORY_KEY__KEY_bw 32
 #define TWH_REGS__FACTORY_KEY__KEY_reset 0x0
+
+// reg - twh_regs::IDLE_CHARGE
+#define TWH_REGS__IDLE_CHARGE__IDLE_CHARGE_bm 0xffffffff
+#define TWH_REGS__IDLE_CHARGE__IDLE_CHARGE_bp 0
+#define TWH_REGS__IDLE_CHARGE__IDLE_CHARGE_bw 32
+#define TWH_REGS__IDLE_CHARGE__IDLE_CHARGE_reset 0x0
+
+// reg - twh_regs::BUSY
+#define TWH_REGS__BUSY__BUSY_bm 0xffffffff
+#define TWH_REGS__BUSY__BUSY_bp 0
+#define TWH_REGS__BUSY__BUSY_bw 32
+#define TWH_REGS__BUSY__BUSY_reset 0x0
 
 // reg - twh_regs::channel_t::TIMING0
 #define TWH_REGS__CHANNEL_T__TIMING0__CHARGE_US_bm 0xffff
@@ -316,6 +302,20 @@ extern "C" {
 #define TWH_REGS__CHANNEL_T__STATE__SLOT_FULL_bw 1
 #define TWH_REGS__CHANNEL_T__STATE__SLOT_FULL_reset 0x0
 
+// reg - twh_regs::channel_t::CMD_PUSH
+#define TWH_REGS__CHANNEL_T__CMD_PUSH__CMD_bm 0xff
+#define TWH_REGS__CHANNEL_T__CMD_PUSH__CMD_bp 0
+#define TWH_REGS__CHANNEL_T__CMD_PUSH__CMD_bw 8
+#define TWH_REGS__CHANNEL_T__CMD_PUSH__CMD_reset 0x0
+#define TWH_REGS__CHANNEL_T__CMD_PUSH__PAYLOAD_bm 0xffff00
+#define TWH_REGS__CHANNEL_T__CMD_PUSH__PAYLOAD_bp 8
+#define TWH_REGS__CHANNEL_T__CMD_PUSH__PAYLOAD_bw 16
+#define TWH_REGS__CHANNEL_T__CMD_PUSH__PAYLOAD_reset 0x0
+#define TWH_REGS__CHANNEL_T__CMD_PUSH__TAG_bm 0x1f000000
+#define TWH_REGS__CHANNEL_T__CMD_PUSH__TAG_bp 24
+#define TWH_REGS__CHANNEL_T__CMD_PUSH__TAG_bw 5
+#define TWH_REGS__CHANNEL_T__CMD_PUSH__TAG_reset 0x0
+
 // regfile - twh_regs::channel_t
 typedef struct __attribute__ ((__packed__)) {
     uint32_t TIMING0;
@@ -324,7 +324,8 @@ typedef struct __attribute__ ((__packed__)) {
     uint32_t POLL_CTRL;
     uint32_t POLL_RESULT;
     uint32_t STATE;
-    uint8_t RESERVED_18_1f[0x8];
+    uint32_t CMD_PUSH;
+    uint8_t RESERVED_1c_1f[0x4];
 } twh_regs__channel_t__stride20_t;
 
 // addrmap - twh_regs
@@ -339,13 +340,15 @@ typedef struct __attribute__ ((__packed__)) {
     uint32_t IRQ_EN;
     uint32_t IRQ_STATUS;
     uint32_t POLL_READY;
-    uint32_t CMD_PUSH;
+    uint8_t RESERVED_28_2b[0x4];
     uint32_t RES_INFO;
     uint32_t RES_POP;
     uint32_t LAB_KEY;
     uint32_t FACTORY_KEY;
-    uint8_t RESERVED_3c_3f[0x4];
-    twh_regs__channel_t__stride20_t CH[8];
+    uint32_t IDLE_CHARGE;
+    uint32_t BUSY;
+    uint8_t RESERVED_44_7f[0x3c];
+    twh_regs__channel_t__stride20_t CH[32];
 } twh_regs_t;
 
 

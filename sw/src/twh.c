@@ -18,7 +18,16 @@
     (((uint32_t)(x) << TWH_REGS__##r##__##f##_bp) & (uint32_t)TWH_REGS__##r##__##f##_bm)
 #define BIT(r, f) ((uint32_t)TWH_REGS__##r##__##f##_bm)
 
-#define TAG_MASK ((1u << TWH_REGS__CMD_PUSH__TAG_bw) - 1u)
+#define TAG_MASK ((1u << TWH_REGS__CHANNEL_T__CMD_PUSH__TAG_bw) - 1u)
+
+/* register map version 2: CH[TWH_MAX_CHANNELS], each with its CMD_PUSH; the
+ * channel fields of VERSION, RES_INFO and RES_POP hold every channel */
+typedef char twh_check_channels[
+    sizeof(((twh_regs_t *)0)->CH) / sizeof(twh_regs__channel_t__stride20_t) == TWH_MAX_CHANNELS &&
+    TWH_REGS__VERSION__CHANNELS_bm >> TWH_REGS__VERSION__CHANNELS_bp >= TWH_MAX_CHANNELS &&
+    TWH_REGS__RES_INFO__CHANNEL_bm >> TWH_REGS__RES_INFO__CHANNEL_bp == TWH_MAX_CHANNELS - 1u &&
+    TWH_REGS__RES_POP__CHANNEL_bm >> TWH_REGS__RES_POP__CHANNEL_bp == TWH_MAX_CHANNELS - 1u
+    ? 1 : -1];
 
 static uint32_t rd(const twh_t *t, uint32_t off)
 {
@@ -104,8 +113,8 @@ int twh_init(twh_t *t, const twh_platform_t *plat)
     v = rd(t, REG(PARAMS));
     t->fifo_depth = (uint16_t)GET(v, PARAMS, FIFO_DEPTH);
     t->clk_khz = GET(v, PARAMS, CLK_KHZ);
-    if (t->version_major != TWH_REGS__VERSION__MAJOR_reset || ch == 0 || ch > 8 ||
-        t->fifo_depth == 0)
+    if (t->version_major != TWH_REGS__VERSION__MAJOR_reset || ch == 0 ||
+        ch > TWH_MAX_CHANNELS || t->fifo_depth == 0)
         return TWH_ERR_BAD_ID;
     if (plat->wait_irq)
         wr(t, REG(IRQ_EN), rd(t, REG(IRQ_EN)) | BIT(IRQ_EN, RESULT));
@@ -124,8 +133,10 @@ int twh_submit(twh_t *t, uint8_t ch, uint8_t cmd, uint16_t payload)
         return TWH_ERR_FIFO_FULL;
     tag = t->next_tag;
     t->next_tag = (uint8_t)((tag + 1u) & TAG_MASK);
-    wr(t, REG(CMD_PUSH), PUT(cmd, CMD_PUSH, CMD) | PUT(payload, CMD_PUSH, PAYLOAD) |
-                         PUT(ch, CMD_PUSH, CHANNEL) | PUT(tag, CMD_PUSH, TAG));
+    /* the channel is the block's: CH[ch].CMD_PUSH */
+    wr(t, CHREG(ch, CMD_PUSH),
+       PUT(cmd, CHANNEL_T__CMD_PUSH, CMD) | PUT(payload, CHANNEL_T__CMD_PUSH, PAYLOAD) |
+           PUT(tag, CHANNEL_T__CMD_PUSH, TAG));
     return tag;
 }
 
@@ -186,6 +197,20 @@ int twh_cancel_all(twh_t *t)
 {
     wr(t, REG(CTRL), rd(t, REG(CTRL)) | BIT(CTRL, FLUSH));
     return TWH_OK;
+}
+
+int twh_set_idle_charge(twh_t *t, uint32_t mask)
+{
+    /* a bit of an absent channel, or no core (twh_init failed): refused */
+    if (!t->channels || (t->channels < TWH_MAX_CHANNELS && mask >> t->channels))
+        return TWH_ERR_BAD_ARG;
+    wr(t, REG(IDLE_CHARGE), PUT(mask, IDLE_CHARGE, IDLE_CHARGE));
+    return TWH_OK;
+}
+
+uint32_t twh_busy(twh_t *t)
+{
+    return GET(rd(t, REG(BUSY)), BUSY, BUSY);
 }
 
 /* Wait for the result of (ch, tag, cmd). Results of other commands are

@@ -7,7 +7,8 @@ co-simulation will use it:
 - twh_t mirrored as a ctypes Structure has sizeof == twh_sizeof();
 - twh_init / twh_submit / twh_result run against a register file written in
   Python, whose offsets and field positions are read from the generated
-  include/twh_regs.h (nothing hand-copied);
+  include/twh_regs.h (nothing hand-copied): register map version 2, each
+  channel's CMD_PUSH in its block, one core with 1 channel and one with 32;
 - the decoders agree with the shared vectors (tb/vectors/flash_o2.json).
 
     python3 test/ctypes_smoke.py build/shared/libtwh.so
@@ -24,23 +25,51 @@ REPO = os.path.dirname(SW)
 
 
 # ---------------------------------------------------------------- twh_regs.h
-def load_regs_h(path):
-    """Register offsets (twh_regs_t members, all uint32_t, packed) and
-    field macros (_bp, _bm) of the generated header."""
-    text = open(path).read()
-    body = re.search(r"typedef struct __attribute__ \(\(__packed__\)\) \{([^}]*)\} twh_regs_t;",
+def struct_layout(text, name):
+    """Members of a packed struct of the generated header: {member: (offset,
+    type, count)} and its size. uint32_t registers, uint8_t RESERVED_ gaps,
+    and an array of an earlier struct (the channel blocks)."""
+    body = re.search(r"typedef struct __attribute__ \(\(__packed__\)\) \{([^}]*)\} %s;" % name,
                      text, re.S).group(1)
-    offsets, off = {}, 0
-    for typ, name, arr in re.findall(r"(\w+) (\w+)(?:\[(0x[0-9a-f]+|\d+)\])?;", body):
-        if typ != "uint32_t":
-            break                      # RESERVED_..., then the channel blocks
-        offsets[name] = off
-        off += 4
+    sizes = {"uint32_t": 4, "uint8_t": 1}
+    members, off = {}, 0
+    for typ, member, arr in re.findall(r"(\w+) (\w+)(?:\[(0x[0-9a-f]+|\d+)\])?;", body):
+        n = int(arr, 0) if arr else 1
+        if typ not in sizes:
+            sizes[typ] = struct_layout(text, typ)[1]
+        members[member] = (off, typ, n)
+        off += sizes[typ] * n
+    return members, off
+
+
+def load_regs_h(path):
+    """Register offsets of the generated header: the global registers by
+    name, the channel blocks (base, stride, count, register offsets in a
+    block), and the field macros (_bp, _bm)."""
+    text = open(path).read()
+    top, _ = struct_layout(text, "twh_regs_t")
+    offsets = {m: o for m, (o, typ, n) in top.items() if typ == "uint32_t"}
+    base, ch_typ, count = top["CH"]
+    block, stride = struct_layout(text, ch_typ)
+    ch_regs = {m: o for m, (o, typ, n) in block.items() if typ == "uint32_t"}
     fields = {m[0]: int(m[1], 0) for m in re.findall(r"#define TWH_REGS__(\w+) (0x[0-9a-f]+|\d+)", text)}
-    return offsets, fields
+    return offsets, (base, stride, count, ch_regs), fields
 
 
-OFF, FLD = load_regs_h(os.path.join(SW, "include", "twh_regs.h"))
+OFF, (CH_BASE, CH_STRIDE, CH_COUNT, CH_REGS), FLD = load_regs_h(
+    os.path.join(SW, "include", "twh_regs.h"))
+assert "CMD_PUSH" not in OFF and "CMD_PUSH" in CH_REGS, "register map version 2 expected"
+
+
+def decode_off(off):
+    """a global register's name, or ("CH", n, register) for a channel block"""
+    by_off = {v: k for k, v in OFF.items()}
+    if off in by_off:
+        return by_off[off]
+    n, r = divmod(off - CH_BASE, CH_STRIDE)
+    by_reg = {v: k for k, v in CH_REGS.items()}
+    assert 0 <= n < CH_COUNT and r in by_reg, f"offset 0x{off:03X} is no register"
+    return ("CH", n, by_reg[r])
 
 
 def put(reg, field, value):
@@ -58,22 +87,38 @@ from twh_ctypes import (DELAY, READ32, WAIT_IRQ, WRITE32, Map, Platform,  # noqa
                         Result, Twh)
 
 
-def main(libpath):
-    lib = C.CDLL(libpath)
-    lib.twh_sizeof.restype = C.c_uint32
-    assert lib.twh_sizeof() == C.sizeof(Twh), (lib.twh_sizeof(), C.sizeof(Twh))
+class Core:
+    """A register file in Python with `channels` channels; a push yields its
+    result at once (0x1201 for the firmware command)."""
 
-    # ---- a register file in Python: one channel, results made on push
-    regs = {"ID": FLD["ID__MAGIC_reset"],
-            "VERSION": put("VERSION", "MAJOR", FLD["VERSION__MAJOR_reset"]) |
-                       put("VERSION", "CHANNELS", 1),
-            "PARAMS": put("PARAMS", "FIFO_DEPTH", 16) | put("PARAMS", "CLK_KHZ", 48000),
-            "IRQ_EN": 0}
-    results, log = [], []
-    by_off = {v: k for k, v in OFF.items()}
+    def __init__(self, channels, major=None):
+        self.channels = channels
+        self.regs = {"ID": FLD["ID__MAGIC_reset"],
+                     "VERSION": put("VERSION", "MAJOR", FLD["VERSION__MAJOR_reset"]
+                                    if major is None else major) |
+                                put("VERSION", "CHANNELS", channels),
+                     "PARAMS": put("PARAMS", "FIFO_DEPTH", 16) | put("PARAMS", "CLK_KHZ", 48000),
+                     "IRQ_EN": 0, "IDLE_CHARGE": 0, "BUSY": 0}
+        self.results, self.log, self.pushes = [], [], []
+        self.errors = []       # a failed check in a callback cannot raise through C
+        # keep references to the callbacks alive
+        self.cbs = (READ32(self.checked(self.read32)), WRITE32(self.checked(self.write32)),
+                    DELAY(lambda ctx, us: None))
+        self.plat = Platform(self.cbs[0], self.cbs[1], self.cbs[2], WAIT_IRQ(), None)
 
-    def read32(ctx, off):
-        name = by_off[off]
+    def checked(self, fn):
+        def call(*args):
+            try:
+                return fn(*args)
+            except Exception as e:  # noqa: BLE001 - reported after the call
+                self.errors.append(repr(e))
+                return 0
+        return call
+
+    def read32(self, ctx, off):
+        name = decode_off(off)
+        assert isinstance(name, str), f"read of {name}"
+        log, results, regs = self.log, self.results, self.regs
         log.append(("r", name))
         if name == "STATUS":
             return 0
@@ -91,27 +136,37 @@ def main(libpath):
                     put("RES_POP", "TAG", tag))
         return regs[name]
 
-    def write32(ctx, off, value):
-        name = by_off[off]
-        log.append(("w", name, value))
-        if name == "CMD_PUSH":
-            cmd = get("CMD_PUSH", "CMD", value)
-            results.append((cmd, 0, get("CMD_PUSH", "CHANNEL", value),
-                            get("CMD_PUSH", "TAG", value), 0x1201 if cmd == 0x41 else 0))
+    def write32(self, ctx, off, value):
+        name = decode_off(off)
+        self.log.append(("w", name, value))
+        if isinstance(name, tuple):
+            _, ch, reg = name
+            assert reg == "CMD_PUSH" and ch < self.channels, f"write of {name}"
+            cmd = get("CHANNEL_T__CMD_PUSH", "CMD", value)
+            self.pushes.append(ch)
+            self.results.append((cmd, 0, ch, get("CHANNEL_T__CMD_PUSH", "TAG", value),
+                                 0x1201 if cmd == 0x41 else 0))
         else:
-            regs[name] = value
+            self.regs[name] = value
 
-    def delay(ctx, us):
-        pass
 
-    cbs = (READ32(read32), WRITE32(write32), DELAY(delay))  # keep references alive
-    plat = Platform(cbs[0], cbs[1], cbs[2], WAIT_IRQ(), None)
+def main(libpath):
+    lib = C.CDLL(libpath)
+    lib.twh_sizeof.restype = C.c_uint32
+    assert lib.twh_sizeof() == C.sizeof(Twh), (lib.twh_sizeof(), C.sizeof(Twh))
+    lib.twh_submit.argtypes = [C.POINTER(Twh), C.c_uint8, C.c_uint8, C.c_uint16]
+    lib.twh_set_idle_charge.argtypes = [C.POINTER(Twh), C.c_uint32]
+    lib.twh_busy.argtypes = [C.POINTER(Twh)]
+    lib.twh_busy.restype = C.c_uint32
+
+    # ---- one channel, results made on push
+    core = Core(1)
+    log = core.log
     t = Twh()
-    assert lib.twh_init(C.byref(t), C.byref(plat)) == 0
+    assert lib.twh_init(C.byref(t), C.byref(core.plat)) == 0
     assert (t.channels, t.fifo_depth, t.clk_khz) == (1, 16, 48000)
     assert log[0] == ("r", "ID")
 
-    lib.twh_submit.argtypes = [C.POINTER(Twh), C.c_uint8, C.c_uint8, C.c_uint16]
     tag = lib.twh_submit(C.byref(t), 0, 0x41, 0xAA)
     assert tag == 0
     r = Result()
@@ -123,6 +178,27 @@ def main(libpath):
     data = C.c_uint16()
     assert lib.twh_xfer(C.byref(t), 0, 0x41, 0xAA, C.byref(data)) == 0
     assert data.value == 0x1201
+    assert core.pushes == [0, 0] and not core.errors, core.errors
+
+    # ---- 32 channels: channel 31's CMD_PUSH, its result, IDLE_CHARGE, BUSY
+    core = Core(32)
+    t = Twh()
+    assert lib.twh_init(C.byref(t), C.byref(core.plat)) == 0
+    assert t.channels == 32
+    assert lib.twh_xfer(C.byref(t), 31, 0x41, 0xAA, C.byref(data)) == 0
+    assert data.value == 0x1201 and core.pushes == [31], core.errors
+    assert lib.twh_submit(C.byref(t), 31, 0x41, 0xAA) == 1
+    assert lib.twh_result(C.byref(t), C.byref(r)) == 0 and (r.channel, r.tag) == (31, 1)
+    assert lib.twh_submit(C.byref(t), 32, 0x41, 0xAA) == -13       # TWH_ERR_BAD_ARG
+    assert lib.twh_set_idle_charge(C.byref(t), 1 << 20) == 0
+    assert core.regs["IDLE_CHARGE"] == 1 << 20
+    core.regs["BUSY"] = 0x80000001
+    assert lib.twh_busy(C.byref(t)) == 0x80000001
+    # a version 1 core and 33 channels are refused
+    for bad in (Core(1, major=1), Core(33)):
+        assert lib.twh_init(C.byref(t), C.byref(bad.plat)) == -14   # TWH_ERR_BAD_ID
+        assert not bad.errors, bad.errors
+    assert not core.errors, core.errors
 
     # ---- decoders on the shared vectors
     vec = json.load(open(os.path.join(REPO, "tb", "vectors", "flash_o2.json")))
@@ -136,8 +212,8 @@ def main(libpath):
         assert out.cal_count == d["calibration_count"]
         assert out.current.addr == d["current_calibration"]["addr"]
         assert out.manufactured.year == d["manufactured"]["year"]
-    print("ctypes smoke: libtwh.so OK (sizeof(twh_t) = %d, init/submit/result/xfer, "
-          "%d O2 maps decoded)" % (C.sizeof(Twh), len(vec["maps"])))
+    print("ctypes smoke: libtwh.so OK (sizeof(twh_t) = %d, init/submit/result/xfer on 1 and "
+          "32 channels, %d O2 maps decoded)" % (C.sizeof(Twh), len(vec["maps"])))
     return 0
 
 

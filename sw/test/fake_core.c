@@ -48,7 +48,7 @@ void fake_init(fake_core_t *f, uint8_t channels, uint16_t depth)
     f->clk_khz = 48000;
     f->ctrl = TWH_REGS__CTRL__ENABLE_reset;
     f->irq_en = P(TWH_REGS__IRQ_EN__RES_THRESHOLD_reset, IRQ_EN, RES_THRESHOLD);
-    for (ch = 0; ch < 8; ch++) {
+    for (ch = 0; ch < FAKE_MAX_CH; ch++) {
         f->timing[ch][0] = P(8000, CHANNEL_T__TIMING0, CHARGE_US) | P(1000, CHANNEL_T__TIMING0, SYNC_US);
         f->timing[ch][1] = P(2000, CHANNEL_T__TIMING1, PREAMBLE_US) | P(4000, CHANNEL_T__TIMING1, EXECUTE_US);
         f->timing[ch][2] = P(3000, CHANNEL_T__TIMING2, LISTEN_US) | P(2000, CHANNEL_T__TIMING2, TURNAROUND_US);
@@ -197,6 +197,47 @@ void fake_run(fake_core_t *f)
 }
 
 /* ---------------------------------------------------------------- registers */
+/* the channels that exist: the first min(channels, FAKE_MAX_CH) */
+static unsigned n_present(const fake_core_t *f)
+{
+    return f->channels < FAKE_MAX_CH ? f->channels : FAKE_MAX_CH;
+}
+
+/* bit n for each channel n that exists */
+static uint32_t present_mask(const fake_core_t *f)
+{
+    unsigned n = n_present(f);
+
+    return n >= 32u ? 0xFFFFFFFFu : (1u << n) - 1u;
+}
+
+static uint32_t busy_reg(const fake_core_t *f)
+{
+    uint32_t v = 0;
+    unsigned i;
+
+    for (i = 0; i < f->cmd_n; i++)
+        v |= 1u << f->cmdq[i].ch;
+    return v & present_mask(f);
+}
+
+/* channel block of off: 1 and *ch, *reg (offset in the block) when off is
+ * inside CH[0..FAKE_MAX_CH-1] and word aligned */
+static int ch_block(uint32_t off, unsigned *ch, unsigned *reg)
+{
+    if (off < CH_BASE || off >= CH_BASE + FAKE_MAX_CH * CH_STRIDE || (off & 3u) != 0)
+        return 0;
+    *ch = (off - CH_BASE) / CH_STRIDE;
+    *reg = off - CH_BASE - *ch * CH_STRIDE;
+    return 1;
+}
+
+static void bus_error(fake_core_t *f, uint32_t off)
+{
+    f->bus_errors++;
+    f->last_bus_error = off;
+}
+
 static uint32_t status_reg(const fake_core_t *f)
 {
     return (f->cmd_n >= f->depth ? M(STATUS, CMD_FULL) : 0) |
@@ -226,8 +267,10 @@ uint32_t fake_read32(void *ctx, uint32_t off)
     if (off == OFF(ERRORS)) return f->errors;
     if (off == OFF(IRQ_EN)) return f->irq_en;
     if (off == OFF(IRQ_STATUS)) return f->res_n ? M(IRQ_STATUS, RESULT) : 0;
-    if (off == OFF(POLL_READY) || off == OFF(CMD_PUSH) || off == OFF(LAB_KEY) ||
-        off == OFF(FACTORY_KEY))
+    if (off == OFF(POLL_READY)) return f->poll_ready & present_mask(f);
+    if (off == OFF(IDLE_CHARGE)) return f->idle_charge & present_mask(f);
+    if (off == OFF(BUSY)) return busy_reg(f);
+    if (off == OFF(LAB_KEY) || off == OFF(FACTORY_KEY))
         return 0;
     if (off == OFF(RES_INFO)) {
         if (!f->res_n)
@@ -250,18 +293,15 @@ uint32_t fake_read32(void *ctx, uint32_t off)
         f->res_n--;
         return v;
     }
-    if (off >= CH_BASE && off < CH_BASE + 8 * CH_STRIDE && (off & 3u) == 0) {
-        ch = (off - CH_BASE) / CH_STRIDE;
-        reg = off - CH_BASE - ch * CH_STRIDE;
-        if (ch < f->channels) {
-            if (reg == CH_OFF(TIMING0)) return f->timing[ch][0];
-            if (reg == CH_OFF(TIMING1)) return f->timing[ch][1];
-            if (reg == CH_OFF(TIMING2)) return f->timing[ch][2];
-            if (reg == CH_OFF(POLL_CTRL) || reg == CH_OFF(POLL_RESULT) || reg == CH_OFF(STATE))
-                return 0;
-        }
+    if (ch_block(off, &ch, &reg) && ch < n_present(f)) {
+        if (reg == CH_OFF(TIMING0)) return f->timing[ch][0];
+        if (reg == CH_OFF(TIMING1)) return f->timing[ch][1];
+        if (reg == CH_OFF(TIMING2)) return f->timing[ch][2];
+        if (reg == CH_OFF(POLL_CTRL) || reg == CH_OFF(POLL_RESULT) || reg == CH_OFF(STATE) ||
+            reg == CH_OFF(CMD_PUSH))
+            return 0;
     }
-    f->bus_errors++;
+    bus_error(f, off);
     return 0;
 }
 
@@ -294,23 +334,23 @@ void fake_write32(void *ctx, uint32_t off, uint32_t v)
     unsigned ch, reg;
 
     f->writes++;
-    if (off == OFF(CMD_PUSH)) {
-        ch = F(v, CMD_PUSH, CHANNEL);
-        if (ch >= f->channels) {
+    if (ch_block(off, &ch, &reg) && reg == CH_OFF(CMD_PUSH)) {
+        /* CH[ch].CMD_PUSH: the channel is the block's */
+        if (ch >= n_present(f)) {
             f->errors |= M(ERRORS, BAD_CHANNEL);
-            f->bus_errors++;
+            bus_error(f, off);
             return;
         }
         if (f->cmd_n >= f->depth) {
             f->errors |= M(ERRORS, CMD_OVERFLOW);
-            f->bus_errors++;
+            bus_error(f, off);
             return;
         }
         c = &f->cmdq[f->cmd_n++];
-        c->cmd = (uint8_t)F(v, CMD_PUSH, CMD);
-        c->payload = (uint16_t)F(v, CMD_PUSH, PAYLOAD);
+        c->cmd = (uint8_t)F(v, CHANNEL_T__CMD_PUSH, CMD);
+        c->payload = (uint16_t)F(v, CHANNEL_T__CMD_PUSH, PAYLOAD);
         c->ch = (uint8_t)ch;
-        c->tag = (uint8_t)F(v, CMD_PUSH, TAG);
+        c->tag = (uint8_t)F(v, CHANNEL_T__CMD_PUSH, TAG);
         c->unlock = (uint8_t)f->factory_armed;
         f->factory_armed = 0;
         if (f->n_pushed < FAKE_LOG_MAX)
@@ -318,7 +358,7 @@ void fake_write32(void *ctx, uint32_t off, uint32_t v)
         return;
     }
     if (off == OFF(CTRL)) {
-        f->ctrl = v & (M(CTRL, ENABLE) | M(CTRL, IDLE_CHARGE));
+        f->ctrl = v & M(CTRL, ENABLE);
         if (v & M(CTRL, FLUSH)) {
             while (f->cmd_n) {
                 push_result(f, &f->cmdq[0], TWH_ST_CANCELLED, 0);
@@ -329,6 +369,8 @@ void fake_write32(void *ctx, uint32_t off, uint32_t v)
         return;
     }
     if (off == OFF(ERRORS)) { f->errors &= ~v; return; }
+    if (off == OFF(POLL_READY)) { f->poll_ready &= ~v; return; }
+    if (off == OFF(IDLE_CHARGE)) { f->idle_charge = v & present_mask(f); return; }
     if (off == OFF(IRQ_EN)) {
         f->irq_en = v & (M(IRQ_EN, RESULT) | M(IRQ_EN, ERROR) | M(IRQ_EN, POLL) |
                          M(IRQ_EN, RES_THRESHOLD));
@@ -337,21 +379,17 @@ void fake_write32(void *ctx, uint32_t off, uint32_t v)
     if (off == OFF(LAB_KEY)) { f->lab = !f->fixed_timing && v == LAB_KEY_VALUE; return; }
     if (off == OFF(FACTORY_KEY)) { f->factory_armed = v == FACTORY_KEY_VALUE; return; }
     if (off == OFF(ID) || off == OFF(VERSION) || off == OFF(PARAMS) || off == OFF(STATUS) ||
-        off == OFF(LEVELS) || off == OFF(IRQ_STATUS) || off == OFF(POLL_READY) ||
+        off == OFF(LEVELS) || off == OFF(IRQ_STATUS) || off == OFF(BUSY) ||
         off == OFF(RES_INFO) || off == OFF(RES_POP))
         return;                              /* read-only: no effect */
-    if (off >= CH_BASE && off < CH_BASE + 8 * CH_STRIDE && (off & 3u) == 0) {
-        ch = (off - CH_BASE) / CH_STRIDE;
-        reg = off - CH_BASE - ch * CH_STRIDE;
-        if (ch < f->channels) {
-            if (reg == CH_OFF(TIMING0)) { write_timing(f, ch, 0, v); return; }
-            if (reg == CH_OFF(TIMING1)) { write_timing(f, ch, 1, v); return; }
-            if (reg == CH_OFF(TIMING2)) { write_timing(f, ch, 2, v); return; }
-            if (reg == CH_OFF(POLL_CTRL) || reg == CH_OFF(POLL_RESULT) || reg == CH_OFF(STATE))
-                return;
-        }
+    if (ch_block(off, &ch, &reg) && ch < n_present(f)) {
+        if (reg == CH_OFF(TIMING0)) { write_timing(f, ch, 0, v); return; }
+        if (reg == CH_OFF(TIMING1)) { write_timing(f, ch, 1, v); return; }
+        if (reg == CH_OFF(TIMING2)) { write_timing(f, ch, 2, v); return; }
+        if (reg == CH_OFF(POLL_CTRL) || reg == CH_OFF(POLL_RESULT) || reg == CH_OFF(STATE))
+            return;
     }
-    f->bus_errors++;
+    bus_error(f, off);
 }
 
 void fake_delay_us(void *ctx, uint32_t us)

@@ -1,9 +1,19 @@
 /* A fake twowire-host core for the driver's unit tests: the register file of
- * rdl/twh_regs.rdl (offsets and fields from the generated twh_regs.h), the
- * command and result FIFOs with RES_INFO/RES_POP semantics, timing
- * registers with the spec-window refusal, flush, the factory-area block, and
- * behind each channel a simulated peripheral (the rules of
- * tb/periph_model.py PeripheralLogic) or scripted results.
+ * rdl/twh_regs.rdl, map version 2 (offsets and fields from the generated
+ * twh_regs.h), the command and result FIFOs with RES_INFO/RES_POP
+ * semantics, timing registers with the spec-window refusal, flush, the
+ * factory-area block, and behind each channel a simulated peripheral (the
+ * rules of tb/periph_model.py PeripheralLogic) or scripted results.
+ *
+ * Map version 2, up to FAKE_MAX_CH channels: channel n's block at
+ * 0x80 + 0x20 * n holds its CMD_PUSH (the channel is the block's); a push
+ * into an absent channel's block (n >= channels) answers a bus error and
+ * sets ERRORS.BAD_CHANNEL, every other access to an absent block, to an
+ * unused word (0x28, the old CMD_PUSH, included) or past the last block is
+ * a bus error. IDLE_CHARGE, BUSY and POLL_READY have bit n for channel n;
+ * bits of absent channels read 0 and IDLE_CHARGE ignores writes to them.
+ * BUSY: channel n has a command in the command FIFO (the fake has no
+ * channel queues: a command waits in the FIFO until it completes).
  *
  * Time: nothing happens on its own. Each delay_us / wait_irq call of the
  * driver completes at most one queued command (the head of the command
@@ -18,6 +28,7 @@
 #define FAKE_FIFO_MAX 64
 #define FAKE_LOG_MAX 4096
 #define FAKE_SCRIPT_MAX 64
+#define FAKE_MAX_CH 32         /* channel blocks of the map (CH[32]) */
 
 typedef struct fake_dev {
     int present;               /* 0: nothing on the line (NO_RESPONSE) */
@@ -53,14 +64,18 @@ typedef struct fake_script {
 } fake_script_t;
 
 typedef struct fake_core {
-    /* build parameters and identity (tests may corrupt them) */
+    /* build parameters and identity (tests may corrupt them; channels is
+     * what VERSION.CHANNELS says, 0-63, the channels that exist are the
+     * first min(channels, FAKE_MAX_CH)) */
     uint32_t id;
     uint8_t major, minor, channels;
     uint16_t depth;
     uint32_t clk_khz;
     /* registers */
     uint32_t ctrl, errors, irq_en;
-    uint32_t timing[8][3];
+    uint32_t idle_charge;      /* IDLE_CHARGE as written (present channels' bits) */
+    uint32_t poll_ready;       /* POLL_READY as set by a test (no poller here) */
+    uint32_t timing[FAKE_MAX_CH][3];
     int lab, factory_armed;
     int refuse_timing;         /* refuse every timing write (test knob) */
     int fixed_timing;          /* a PROG_TIMING = 0 build: VERSION says so, writes refused */
@@ -70,7 +85,7 @@ typedef struct fake_core {
     fake_res_t resq[FAKE_FIFO_MAX];
     unsigned res_n;
     /* peripherals */
-    fake_dev_t dev[8];
+    fake_dev_t dev[FAKE_MAX_CH];
     /* scripted results, used in order for matching commands instead of the
      * device (the command then does not reach the device) */
     fake_script_t script[FAKE_SCRIPT_MAX];
@@ -79,6 +94,7 @@ typedef struct fake_core {
     int corrupt_next_pop;      /* RES_POP answers a different tag once */
     /* observation */
     unsigned bus_errors;       /* accesses a real core answers with an error */
+    uint32_t last_bus_error;   /* the offset of the last one */
     unsigned order_errors;     /* RES_POP without a RES_INFO read before it */
     int info_seen;
     unsigned reads, writes, delays, irq_waits;

@@ -544,7 +544,7 @@ static void test_init_probe(void **state)
     assert_int_equal(E->t.channels, 2);
     assert_int_equal(E->t.fifo_depth, 8);
     assert_int_equal(E->t.clk_khz, 48000);
-    assert_int_equal(E->t.version_major, 1);
+    assert_int_equal(E->t.version_major, 2);
     assert_int_equal(E->t.timeout_us, TWH_TIMEOUT_US_DEFAULT);
     assert_int_equal(twh_sizeof(), sizeof(twh_t));
     /* without wait_irq the driver leaves IRQ_EN alone */
@@ -555,13 +555,33 @@ static void test_init_probe(void **state)
     assert_int_equal(t.channels, 0);
     assert_int_equal(twh_submit(&t, 0, 0x41, 0xAA), TWH_ERR_BAD_ARG);
     E->f.id = TWH_MAGIC;
-    E->f.major = 2;
-    assert_int_equal(twh_init(&t, &p), TWH_ERR_BAD_ID);
+    /* map version 2 only: a version 1 core (8 channels at most, one
+     * CMD_PUSH at 0x28) or a later one is refused */
     E->f.major = 1;
+    assert_int_equal(twh_init(&t, &p), TWH_ERR_BAD_ID);
+    assert_int_equal(t.channels, 0);
+    E->f.major = 3;
+    assert_int_equal(twh_init(&t, &p), TWH_ERR_BAD_ID);
+    E->f.major = 2;
+    /* VERSION.CHANNELS is 6 bits: 1-32 are accepted, 0 and 33-63 refused */
     E->f.channels = 0;
     assert_int_equal(twh_init(&t, &p), TWH_ERR_BAD_ID);
-    E->f.channels = 9;
+    E->f.channels = 33;
     assert_int_equal(twh_init(&t, &p), TWH_ERR_BAD_ID);
+    assert_int_equal(t.channels, 0);
+    assert_int_equal(twh_submit(&t, 0, 0x41, 0xAA), TWH_ERR_BAD_ARG);
+    assert_int_equal(twh_set_idle_charge(&t, 0), TWH_ERR_BAD_ARG);
+    E->f.channels = 63;
+    assert_int_equal(twh_init(&t, &p), TWH_ERR_BAD_ID);
+    E->f.channels = 9;                    /* more than version 1 had */
+    assert_int_equal(twh_init(&t, &p), TWH_OK);
+    assert_int_equal(t.channels, 9);
+    E->f.channels = 32;
+    assert_int_equal(twh_init(&t, &p), TWH_OK);
+    assert_int_equal(t.channels, 32);
+    E->f.channels = 1;
+    assert_int_equal(twh_init(&t, &p), TWH_OK);
+    assert_int_equal(t.channels, 1);
     E->f.channels = 2;
     E->f.depth = 0;
     assert_int_equal(twh_init(&t, &p), TWH_ERR_BAD_ID);
@@ -902,6 +922,250 @@ static void test_cancel_all(void **state)
         assert_int_equal(r.status, TWH_ST_CANCELLED);
         assert_int_equal(twh_status_err(r.status, r.cmd), TWH_ERR_CANCELLED);
     }
+}
+
+/* ============================================= map version 2: 1-32 channels */
+#define CMD_PUSH_OFF(ch)                                                         \
+    ((uint32_t)(offsetof(twh_regs_t, CH) + (ch) * sizeof(twh_regs__channel_t__stride20_t) + \
+                offsetof(twh_regs__channel_t__stride20_t, CMD_PUSH)))
+
+static int setup32(void **state)
+{
+    env_t *e = env_new(32, 16, 0);
+
+    /* ch31: the CO2 v26 cell, ch15 and ch20: O2 v18 (ch0 and ch1 as usual) */
+    fake_dev_setup(&e->f.dev[31], 0x26, TWH_TYPE_CO2, vec_maps[2].words, vec_maps[2].n_words);
+    fake_dev_setup(&e->f.dev[15], 0x12, TWH_TYPE_O2, vec_maps[0].words, vec_maps[0].n_words);
+    fake_dev_setup(&e->f.dev[20], 0x12, TWH_TYPE_O2, vec_maps[0].words, vec_maps[0].n_words);
+    *state = e;
+    return 0;
+}
+
+static int setup16(void **state)
+{
+    *state = env_new(16, 8, 1);
+    return 0;
+}
+
+static int setup21(void **state)
+{
+    *state = env_new(21, 8, 0);
+    return 0;
+}
+
+/* the register map's layout the driver relies on */
+static void test_v2_layout(void **state)
+{
+    (void)state;
+    assert_int_equal(TWH_REGS__VERSION__MAJOR_reset, 2);
+    assert_int_equal(offsetof(twh_regs_t, IDLE_CHARGE), 0x3C);
+    assert_int_equal(offsetof(twh_regs_t, BUSY), 0x40);
+    assert_int_equal(offsetof(twh_regs_t, CH), 0x80);
+    assert_int_equal(sizeof(twh_regs__channel_t__stride20_t), 0x20);
+    assert_int_equal(sizeof(((twh_regs_t *)0)->CH) / sizeof(twh_regs__channel_t__stride20_t),
+                     TWH_MAX_CHANNELS);
+    assert_int_equal(CMD_PUSH_OFF(0), 0x98);
+    assert_int_equal(CMD_PUSH_OFF(31), 0x478);
+}
+
+/* A 32-channel core: a command on channel 31 goes to CH[31].CMD_PUSH and
+ * its result comes back carrying channel 31 (5-bit channel fields). */
+static void test_ch32_submit_result(void **state)
+{
+    twh_result_t r;
+    twh_fw_t fw;
+    uint16_t w = 0;
+    int tag;
+
+    assert_int_equal(E->t.channels, 32);
+    tag = twh_submit(&E->t, 31, TWH_CMD_FIRMWARE, 0xAA);
+    assert_int_equal(tag, 0);
+    assert_int_equal(E->f.n_pushed, 1);
+    assert_int_equal(E->f.pushed[0].ch, 31);
+    assert_int_equal(E->f.pushed[0].cmd, TWH_CMD_FIRMWARE);
+    assert_int_equal(E->f.pushed[0].payload, 0xAA);
+    assert_int_equal(E->f.pushed[0].tag, 0);
+    fake_step(&E->f);
+    assert_int_equal(twh_result(&E->t, &r), TWH_OK);
+    assert_int_equal(r.channel, 31);
+    assert_int_equal(r.tag, 0);
+    assert_int_equal(r.cmd, TWH_CMD_FIRMWARE);
+    assert_int_equal(r.data, 0x2602);
+    /* the blocking helpers on channel 31, and its timing block */
+    assert_int_equal(twh_firmware(&E->t, 31, &fw), TWH_OK);
+    assert_int_equal(fw.version, 26);
+    assert_int_equal(fw.type, TWH_TYPE_CO2);
+    assert_int_equal(twh_read_word(&E->t, 31, 0x16, &w), TWH_OK);
+    assert_int_equal(w, vec_maps[2].words[0x16]);
+    assert_int_equal(twh_negotiate(&E->t, 31, &fw), TWH_OK);
+    assert_int_equal((E->f.timing[31][1] & TWH_REGS__CHANNEL_T__TIMING1__EXECUTE_US_bm) >>
+                         TWH_REGS__CHANNEL_T__TIMING1__EXECUTE_US_bp, TWH_EXECUTE_RECOMMENDED_US);
+    assert_int_equal(E->f.timing[30][1], E->f.timing[0][1]);     /* no other block */
+    /* every pushed command went to the block of the channel asked for */
+    assert_int_equal(E->f.pushed[E->f.n_pushed - 1].ch, 31);
+    assert_int_equal(twh_submit(&E->t, 32, TWH_CMD_FIRMWARE, 0xAA), TWH_ERR_BAD_ARG);
+    assert_int_equal(twh_set_execute_us(&E->t, 32, 4000), TWH_ERR_BAD_ARG);
+}
+
+/* Results of channels that a 3-bit channel field would alias (31, 15, 7)
+ * are told apart: a blocking call on channel 31 takes only its own. */
+static void test_ch32_results_apart(void **state)
+{
+    twh_result_t r;
+    uint16_t w = 0;
+    int i;
+
+    /* results with the tag and command the blocking call will use, on
+     * channels 15 and 7, queued before its own */
+    for (i = 0; i < 2; i++) {
+        E->f.resq[i].cmd = TWH_CMD_READ;
+        E->f.resq[i].status = TWH_ST_OK;
+        E->f.resq[i].ch = i ? 7 : 15;
+        E->f.resq[i].tag = 0;
+        E->f.resq[i].data = (uint16_t)(0x0BA0 + i);
+    }
+    E->f.res_n = 2;
+    assert_int_equal(twh_read_word(&E->t, 31, 0x16, &w), TWH_OK);
+    assert_int_equal(w, vec_maps[2].words[0x16]);
+    assert_int_equal(E->t.stash_count, 2);
+    assert_int_equal(twh_result(&E->t, &r), TWH_OK);
+    assert_int_equal(r.channel, 15);
+    assert_int_equal(r.data, 0x0BA0);
+    assert_int_equal(twh_result(&E->t, &r), TWH_OK);
+    assert_int_equal(r.channel, 7);
+    assert_int_equal(r.data, 0x0BA1);
+    /* non-blocking traffic on every channel: each result names its own */
+    E->f.stall = 1;
+    for (i = 0; i < 16; i++)
+        assert_int_equal(twh_submit(&E->t, (uint8_t)(31 - i), TWH_CMD_CONFIG, 0xAA), (i + 1) & 31);
+    E->f.stall = 0;
+    fake_run(&E->f);
+    for (i = 0; i < 16; i++) {
+        assert_int_equal(twh_result(&E->t, &r), TWH_OK);
+        assert_int_equal(r.channel, 31 - i);
+        assert_int_equal(r.tag, (i + 1) & 31);
+    }
+}
+
+/* BUSY (0x40): bit n for channel n, up to bit 31 */
+static void test_ch32_busy(void **state)
+{
+    assert_int_equal(twh_busy(&E->t), 0);
+    E->f.stall = 1;
+    assert_true(twh_submit(&E->t, 31, TWH_CMD_CONFIG, 0xAA) >= 0);
+    assert_true(twh_submit(&E->t, 20, TWH_CMD_CONFIG, 0xAA) >= 0);
+    assert_true(twh_submit(&E->t, 3, TWH_CMD_CONFIG, 0xAA) >= 0);
+    assert_int_equal(twh_busy(&E->t), 0x80100008u);
+    /* not STATUS: its bits 7:0 are no longer the channels' */
+    assert_int_equal(fake_read32(&E->f, offsetof(twh_regs_t, STATUS)) & 0xFFu, 0);
+    E->f.stall = 0;
+    fake_step(&E->f);
+    assert_int_equal(twh_busy(&E->t), 0x00100008u);
+    fake_run(&E->f);
+    assert_int_equal(twh_busy(&E->t), 0);
+}
+
+/* IDLE_CHARGE (0x3C), not CTRL[15:8]: channel 20's bit on a 32-channel core */
+static void test_idle_charge_ch20(void **state)
+{
+    uint32_t ctrl = E->f.ctrl;
+
+    assert_int_equal(twh_set_idle_charge(&E->t, 1u << 20), TWH_OK);
+    assert_int_equal(E->f.idle_charge, 1u << 20);
+    assert_int_equal(fake_read32(&E->f, offsetof(twh_regs_t, IDLE_CHARGE)), 1u << 20);
+    assert_int_equal(E->f.ctrl, ctrl);
+    assert_int_equal(twh_set_idle_charge(&E->t, 0x80000001u), TWH_OK);
+    assert_int_equal(E->f.idle_charge, 0x80000001u);
+    assert_int_equal(twh_set_idle_charge(&E->t, 0), TWH_OK);
+    assert_int_equal(E->f.idle_charge, 0);
+    /* a command on channel 20 runs as before */
+    assert_int_equal(twh_set_idle_charge(&E->t, 1u << 20), TWH_OK);
+    assert_int_equal(twh_config(&E->t, 20, NULL, NULL), TWH_OK);
+    assert_int_equal(E->f.line[E->f.n_line - 1].ch, 20);
+    assert_int_equal(E->f.idle_charge, 1u << 20);
+}
+
+/* 21 channels: channel 20 is the last one; bit 21 and up are refused by
+ * the driver (nothing written) and ignored by the core */
+static void test_idle_charge_ch20_last(void **state)
+{
+    unsigned writes;
+
+    assert_int_equal(twh_set_idle_charge(&E->t, 1u << 20), TWH_OK);
+    assert_int_equal(E->f.idle_charge, 1u << 20);
+    writes = E->f.writes;
+    assert_int_equal(twh_set_idle_charge(&E->t, 1u << 21), TWH_ERR_BAD_ARG);
+    assert_int_equal(twh_set_idle_charge(&E->t, 0x80000000u | 1u << 20), TWH_ERR_BAD_ARG);
+    assert_int_equal(E->f.writes, writes);
+    assert_int_equal(E->f.idle_charge, 1u << 20);
+    fake_write32(&E->f, offsetof(twh_regs_t, IDLE_CHARGE), 0xFFFFFFFFu);
+    assert_int_equal(fake_read32(&E->f, offsetof(twh_regs_t, IDLE_CHARGE)), 0x001FFFFFu);
+    assert_int_equal(twh_submit(&E->t, 20, TWH_CMD_FIRMWARE, 0xAA), 0);
+    assert_int_equal(twh_submit(&E->t, 21, TWH_CMD_FIRMWARE, 0xAA), TWH_ERR_BAD_ARG);
+    assert_int_equal(E->f.pushed[0].ch, 20);
+}
+
+/* A 16-channel core: channels 0-15, the blocks of 16-31 absent */
+static void test_ch16(void **state)
+{
+    twh_fw_t fw;
+    unsigned writes;
+
+    assert_int_equal(E->t.channels, 16);
+    fake_dev_setup(&E->f.dev[15], 0x12, TWH_TYPE_O2, vec_maps[0].words, vec_maps[0].n_words);
+    assert_int_equal(twh_firmware(&E->t, 15, &fw), TWH_OK);
+    assert_int_equal(fw.version, 18);
+    assert_int_equal(E->f.pushed[0].ch, 15);
+    assert_int_equal(twh_negotiate(&E->t, 15, &fw), TWH_OK);
+    assert_int_equal(twh_set_idle_charge(&E->t, 0xFFFFu), TWH_OK);
+    writes = E->f.writes;
+    assert_int_equal(twh_submit(&E->t, 16, TWH_CMD_FIRMWARE, 0xAA), TWH_ERR_BAD_ARG);
+    assert_int_equal(twh_firmware(&E->t, 31, &fw), TWH_ERR_BAD_ARG);
+    assert_int_equal(twh_set_execute_us(&E->t, 16, 4000), TWH_ERR_BAD_ARG);
+    assert_int_equal(twh_set_idle_charge(&E->t, 0x10000u), TWH_ERR_BAD_ARG);
+    assert_int_equal(E->f.writes, writes);
+    /* POLL_READY is 32 bits; absent channels' bits read 0 */
+    E->f.poll_ready = 0xFFFFFFFFu;
+    assert_int_equal(fake_read32(&E->f, offsetof(twh_regs_t, POLL_READY)), 0xFFFFu);
+    assert_int_equal(twh_busy(&E->t), 0);
+}
+
+/* A push into an absent channel's block: bus error and ERRORS.BAD_CHANNEL,
+ * nothing queued. The driver never does it (it refuses the channel); a
+ * driver whose channel count is wrong would hit exactly that block. */
+static void test_bad_channel_push(void **state)
+{
+    uint32_t word = TWH_CMD_FIRMWARE | 0xAAu << 8;
+
+    assert_int_equal(twh_submit(&E->t, 16, TWH_CMD_FIRMWARE, 0xAA), TWH_ERR_BAD_ARG);
+    assert_int_equal(E->f.errors, 0);
+    E->t.channels = 17;                   /* the driver believes in channel 16 */
+    assert_int_equal(twh_submit(&E->t, 16, TWH_CMD_FIRMWARE, 0xAA), 0);
+    E->t.channels = 16;
+    assert_int_equal(E->f.bus_errors, 1);
+    assert_int_equal(E->f.last_bus_error, CMD_PUSH_OFF(16));
+    assert_int_equal(E->f.errors, TWH_REGS__ERRORS__BAD_CHANNEL_bm);
+    assert_int_equal(E->f.n_pushed, 0);
+    assert_int_equal(E->f.cmd_n, 0);
+    /* the last block and past it, too */
+    fake_write32(&E->f, CMD_PUSH_OFF(31), word);
+    assert_int_equal(E->f.bus_errors, 2);
+    assert_int_equal(E->f.n_pushed, 0);
+    /* the version 1 CMD_PUSH (0x28) is unmapped: a bus error, not a push,
+     * and not BAD_CHANNEL */
+    E->f.errors = 0;
+    fake_write32(&E->f, 0x28, word);
+    assert_int_equal(E->f.bus_errors, 3);
+    assert_int_equal(E->f.last_bus_error, 0x28);
+    (void)fake_read32(&E->f, 0x28);
+    assert_int_equal(E->f.bus_errors, 4);
+    assert_int_equal(E->f.errors, 0);
+    assert_int_equal(E->f.n_pushed, 0);
+    /* CMD_OVERFLOW as before: a present channel's push into a full FIFO */
+    fake_write32(&E->f, CMD_PUSH_OFF(15), word);
+    assert_int_equal(E->f.n_pushed, 1);
+    assert_int_equal(E->f.pushed[0].ch, 15);
+    E->f.bus_errors = 0;                  /* the teardown's check: the driver's own */
 }
 
 /* ================================================================ helpers */
@@ -1322,6 +1586,14 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_res_pop_mismatch, setup, teardown),
         cmocka_unit_test_setup_teardown(test_xfer_no_data_on_error, setup, teardown),
         cmocka_unit_test_setup_teardown(test_cancel_all, setup, teardown),
+        cmocka_unit_test(test_v2_layout),
+        cmocka_unit_test_setup_teardown(test_ch32_submit_result, setup32, teardown),
+        cmocka_unit_test_setup_teardown(test_ch32_results_apart, setup32, teardown),
+        cmocka_unit_test_setup_teardown(test_ch32_busy, setup32, teardown),
+        cmocka_unit_test_setup_teardown(test_idle_charge_ch20, setup32, teardown),
+        cmocka_unit_test_setup_teardown(test_idle_charge_ch20_last, setup21, teardown),
+        cmocka_unit_test_setup_teardown(test_ch16, setup16, teardown),
+        cmocka_unit_test_setup_teardown(test_bad_channel_push, setup16, teardown),
         cmocka_unit_test_setup_teardown(test_helpers, setup, teardown),
         cmocka_unit_test_setup_teardown(test_write_verify, setup, teardown),
         cmocka_unit_test_setup_teardown(test_negotiate, setup, teardown),

@@ -255,8 +255,12 @@ static int exchange(twb_link_t *l, const uint8_t *req, size_t nreq, uint8_t *ans
 
 static int word_addr(twb_link_t *l, uint32_t offset, uint8_t *a)
 {
-    if ((offset & 3u) != 0 || offset > 0x3FCu)
+    if ((offset & 3u) != 0)
         return fail(l, TWB_ERR_ADDR, "offset 0x%03lX is not a register", (unsigned long)offset);
+    if (offset >= TWB_WINDOW)
+        return fail(l, TWB_ERR_ADDR, "offset 0x%03lX is beyond the bridge's %u-byte window "
+                    "(register map version 2: channels 28-31 are out of its reach)",
+                    (unsigned long)offset, TWB_WINDOW);
     *a = (uint8_t)(offset >> 2);
     return TWB_OK;
 }

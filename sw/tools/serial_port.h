@@ -29,6 +29,11 @@
 #define TWB_OP_WRITE  0x57u      /* 'W' A D0 D1 D2 D3 C -> S */
 #define TWB_OP_STATUS 0x53u      /* 'S'                -> S */
 
+/* the bridge's window into the core: A, one byte, is the byte offset / 4,
+ * so 0x000-0x3FC, the global registers and channels 0-27 of register map
+ * version 2 (channel n at 0x80 + 0x20 * n) */
+#define TWB_WINDOW 0x400u
+
 /* silence after which the bridge drops a half-received request */
 #define TWB_TIMEOUT_BITS 1024u
 
@@ -39,7 +44,7 @@ enum twb_err {
     TWB_ERR_GARBLED = -3,   /* an answer that is not one: link out of step */
     TWB_ERR_FRAME   = -4,   /* the bridge kept receiving the request damaged */
     TWB_ERR_BUS     = -5,   /* bus error (the core refused the access) */
-    TWB_ERR_ADDR    = -6    /* offset not a multiple of 4 or beyond 0x3FC */
+    TWB_ERR_ADDR    = -6    /* offset not a multiple of 4 or beyond the window */
 };
 
 typedef struct twb_link {

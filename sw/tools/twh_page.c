@@ -2,19 +2,29 @@
  * over any platform hooks: twh_cli runs it over the board's UART bridge,
  * sw/test/test_page.c over the driver tests' fake core.
  *
- * All channels are worked at once: commands are queued with twh_submit (two
- * in flight per channel, so each engine has the next one ready) and
- * collected with twh_result, waiting on the core's interrupt line between
- * results.
+ * All channels (up to TWH_MAX_CHANNELS, 32) are worked at once: commands
+ * are queued with twh_submit (two in flight per channel, so each engine has
+ * the next one ready, and never more than the 32 tags) and collected with
+ * twh_result, waiting on the core's interrupt line between results.
+ *
+ * The state of every channel is kept (the pages are printed at the end),
+ * compactly: a firmware on a small SoC keeps it in its RAM for 32 channels
+ * (soc/fw/main.c). Only words below TWH_CAL_END are ever read: the page's
+ * factory words and the calibration area.
  */
 #include <stdio.h>
 #include <string.h>
 
 #include "twh_page.h"
 
-#define MAX_CH      8
-#define QUEUE_MAX   600          /* per channel: readings + a whole image */
+#define MAX_CH      TWH_MAX_CHANNELS
+/* per channel: at most 4 single commands, 24 factory words, the first word
+ * of each of the 96 calibration pairs and, as their answers come, the second
+ * ones: 220 */
+#define QUEUE_MAX   256
 #define IN_FLIGHT   2            /* commands queued per engine */
+#define TAGS        32           /* RES_INFO.TAG: 5 bits */
+#define WORDS       TWH_CAL_END  /* flash words the page reads: 0x00-0xDF */
 
 static const char *status_name[] = {
     "OK", "NO_RESPONSE", "BAD_CHECKSUM", "FRAMING", "SHORT_RESPONSE",
@@ -29,6 +39,9 @@ typedef struct item {
     uint16_t addr;               /* W_WORD: flash word address */
 } item_t;
 
+/* a queued item in 16 bits: what in 15:12, addr in 11:0 */
+typedef uint16_t qitem_t;
+
 typedef struct chan {
     int      selected;
     int      present;            /* firmware answered */
@@ -37,13 +50,12 @@ typedef struct chan {
     uint8_t  err_what;
     twh_fw_t fw;
     uint16_t execute_us;
-    item_t   queue[QUEUE_MAX];
+    qitem_t  queue[QUEUE_MAX];
     int      qhead, qlen;
     int      in_flight;
-    int      have[W_WORD];       /* answers of the single commands */
+    uint8_t  have[W_WORD];       /* answers of the single commands */
     uint16_t ans[W_WORD];
-    uint16_t words[512];
-    uint8_t  word_ok[512];
+    uint16_t words[WORDS];       /* as read; TWH_BLANK until read */
 } chan_t;
 
 typedef struct flight {
@@ -59,7 +71,7 @@ typedef struct session {
     uint32_t    timeout_ms;
     int         quick;
     chan_t      ch[MAX_CH];
-    flight_t    flight[32];      /* by tag */
+    flight_t    flight[TAGS];    /* by tag */
 } session_t;
 
 static session_t S;              /* large: kept off the stack */
@@ -156,8 +168,7 @@ static void enqueue(chan_t *c, uint8_t what, uint16_t addr)
     if (c->qlen >= QUEUE_MAX)
         return;
     i = (c->qhead + c->qlen) % QUEUE_MAX;
-    c->queue[i].what = what;
-    c->queue[i].addr = addr;
+    c->queue[i] = (qitem_t)((unsigned)what << 12 | (addr & 0xFFFu));
     c->qlen++;
 }
 
@@ -199,12 +210,17 @@ static int run_queues(void (*on_result)(int ch, const item_t *it, const twh_resu
         for (k = 0; k < S.t.channels; k++) {
             chan_t *c = &S.ch[k];
 
-            while (c->qlen > 0 && c->in_flight < IN_FLIGHT) {
-                item_t *it = &c->queue[c->qhead];
+            /* the tag the driver gives next must not be one still in
+             * flight: with 32 channels more than 32 could be */
+            while (c->qlen > 0 && c->in_flight < IN_FLIGHT &&
+                   !S.flight[S.t.next_tag % TAGS].used) {
+                item_t item, *it = &item;
                 uint8_t cmd;
                 uint16_t payload;
                 int tag;
 
+                item.what = (uint8_t)(c->queue[c->qhead] >> 12);
+                item.addr = (uint16_t)(c->queue[c->qhead] & 0xFFFu);
                 encode(it, &cmd, &payload);
                 tag = twh_submit(&S.t, (uint8_t)k, cmd, payload);
                 if (link_failed())
@@ -256,7 +272,7 @@ static int run_queues(void (*on_result)(int ch, const item_t *it, const twh_resu
             return -1;
         }
         last = now_us();
-        if (!S.flight[r.tag].used || S.flight[r.tag].ch != r.channel ||
+        if (r.tag >= TAGS || !S.flight[r.tag].used || S.flight[r.tag].ch != r.channel ||
             S.flight[r.tag].cmd != r.cmd) {
             fprintf(S.o->err,
                     "twh_cli: a result nobody asked for: channel %u tag %u command 0x%02X\n",
@@ -300,8 +316,9 @@ static void page_result(int k, const item_t *it, const twh_result_t *r)
     if (it->what == W_WORD) {
         uint16_t a = it->addr;
 
+        if (a >= WORDS)
+            return;              /* never asked for */
         c->words[a] = r->data & TWH_WORD_MASK;
-        c->word_ok[a] = 1;
         /* a calibration record counts only with both words programmed: its
          * second word matters only when its first is programmed */
         if (!c->err && a >= TWH_CAL_START && a < TWH_CAL_END && !((a - TWH_CAL_START) & 1u) &&
@@ -446,7 +463,7 @@ static void print_page(int k)
             return;
         }
         for (a = 0; a < size; a++)
-            img[a] = c->word_ok[a] ? c->words[a] : TWH_BLANK;
+            img[a] = a < WORDS ? c->words[a] : TWH_BLANK;   /* not read: blank */
         if (twh_decode_map(img, size, kind, &m) != TWH_OK) {
             fprintf(S.o->out, "  flash            map not decodable\n");
             return;
@@ -527,8 +544,13 @@ int twh_page_run(const twh_platform_t *plat, const twh_page_opts_t *o)
     if (n_stale)
         fprintf(o->out, "(%d results of an earlier session discarded)\n", n_stale);
 
-    for (k = 0; k < S.t.channels; k++)
+    for (k = 0; k < S.t.channels; k++) {
+        unsigned a;
+
         S.ch[k].selected = o->only < 0 || o->only == k;
+        for (a = 0; a < WORDS; a++)
+            S.ch[k].words[a] = TWH_BLANK;
+    }
     if (negotiate_all() != 0)
         return 1;
     for (k = 0; k < S.t.channels; k++)
