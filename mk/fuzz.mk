@@ -44,12 +44,12 @@ $(FUZZ_B)/bin/fuzz_%: sw/fuzz/fuzz_%.c $(FUZZ_DEPS) | deps
 	@mkdir -p $(@D)
 	$(FUZZ_CC) $(FUZZ_CFLAGS) $(filter %.c,$^) -o $@
 
-$(FUZZ_B)/corpus/.stamp: sw/fuzz/gen_corpus.py $(FUZZ_VEC) | deps
+$(FUZZ_B)/corpus/.stamp: sw/fuzz/gen_corpus.py sw/include/twh_regs.h $(FUZZ_VEC) | deps
 	$(PY) sw/fuzz/gen_corpus.py -o $(FUZZ_B)/corpus $(FUZZ_VEC)
 	@touch $@
 
 # the same seeds, kept apart from the corpora that make fuzz grows
-$(FUZZ_B)/seeds/.stamp: sw/fuzz/gen_corpus.py $(FUZZ_VEC) | deps
+$(FUZZ_B)/seeds/.stamp: sw/fuzz/gen_corpus.py sw/include/twh_regs.h $(FUZZ_VEC) | deps
 	rm -rf $(@D)
 	$(PY) sw/fuzz/gen_corpus.py -o $(@D) $(FUZZ_VEC)
 	@touch $@
