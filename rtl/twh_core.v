@@ -42,7 +42,13 @@ module twh_core #(
     // second for good): 0, one twh_channel (twh_link) a channel in
     // flip-flops; 1, the time-shared twh_engine, every channel's state in
     // RAM, a queue of four commands a channel behind the command FIFO.
-    parameter integer ENGINE      = 1
+    parameter integer ENGINE      = 1,
+    // ENGINE = 1: 1 keeps the engine's memories (state, queues, phase
+    // lengths) in block RAM on every part, as the iCE40s need (no LUT RAM:
+    // a shallow memory would become flip-flops); 0 leaves the choice to
+    // synthesis, which on the ECP5 takes LUT RAM while they are shallow,
+    // whose read is faster (docs/integration.md, "Parameters")
+    parameter integer RAM_BLOCK   = 1
 ) (
     input  wire                clk,
     input  wire                rst,
@@ -501,7 +507,8 @@ module twh_core #(
     genvar n;
     generate
         if (ENGINE_N != 0) begin : g_engine
-            twh_core_engine #(.CLK_HZ(CLK_HZ), .CHANNELS(CH_N), .POLLING(POLLING)) u_engine (
+            twh_core_engine #(.CLK_HZ(CLK_HZ), .CHANNELS(CH_N), .POLLING(POLLING),
+                              .RAM_BLOCK(RAM_BLOCK)) u_engine (
                 .clk(clk), .rst(rst), .ms_tick(ms_tick), .tick(us_tick), .fall(us_fall),
                 .enable(enable), .idle_charge(idle_charge[CH_N-1:0]),
                 .wdata(q_wdata), .pc_wr(q_wp && wr && q_win_p), .rd_ctrl(q_r_pc),

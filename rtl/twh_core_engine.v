@@ -21,7 +21,8 @@
 module twh_core_engine #(
     parameter integer CLK_HZ   = 48_000_000,
     parameter integer CHANNELS = 1,
-    parameter integer POLLING  = 1
+    parameter integer POLLING  = 1,
+    parameter integer RAM_BLOCK = 1      // the engine's and pollers' memories in block RAM (twh_core)
 ) (
     input  wire                   clk,
     input  wire                   rst,
@@ -93,7 +94,7 @@ module twh_core_engine #(
     wire [4:0]             r_tag;
     // (its clock floor is the core's twh_carrier's to check)
     twh_engine #(.CLK_HZ(CLK_HZ), .CHANNELS(CHANNELS), .TAG_W(5), .QDEPTH(4),
-                 .CHECK_FLOOR(0)) u_engine (
+                 .CHECK_FLOOR(0), .RAM_BLOCK(RAM_BLOCK)) u_engine (
         .clk(clk), .rst(rst), .tick(tick), .fall(fall), .cfg_idle_charge(idle_charge),
         .enable(enable), .cancel(cancel), .poll_req(p_due), .poll_cmd(p_cmd), .scan_ch(scan_ch),
         .t_we(|dur_we), .t_ch(t_ch), .t_fld(dur_fld), .t_len(dur),
@@ -108,7 +109,7 @@ module twh_core_engine #(
         .p_take(p_take), .p_res(p_res), .p_ch(p_ch), .p_data(p_data), .p_status(p_status),
         .p_count(p_count)
     );
-    twh_polls #(.CHANNELS(CHANNELS), .POLLING(POLLING)) u_polls (
+    twh_polls #(.CHANNELS(CHANNELS), .POLLING(POLLING), .RAM_BLOCK(RAM_BLOCK)) u_polls (
         .clk(clk), .rst(rst), .ms_tick(ms_tick),
         .wr(pc_wr), .wr_ch(reg_ch[CW-1:0]), .wr_data(wdata),
         .rd_ctrl(rd_ctrl), .rd_res(rd_res), .rd_ch(reg_ch[CW-1:0]), .rd_data(rd_data),

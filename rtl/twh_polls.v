@@ -29,6 +29,9 @@
 module twh_polls #(
     parameter integer CHANNELS = 1,
     parameter integer POLLING  = 1,      // 0: no poller (POLL_CTRL reads 0, nothing due)
+    // 1: the memories in block RAM (the iCE40s have no LUT RAM); 0:
+    // synthesis chooses (the ECP5's LUT RAM reads faster: twh_core's RAM_BLOCK)
+    parameter integer RAM_BLOCK = 1,
     parameter integer CW       = (CHANNELS > 1) ? $clog2(CHANNELS) : 1
 ) (
     input  wire                clk,
@@ -64,31 +67,43 @@ module twh_polls #(
     reg [1:0]    w_s;           // 0 read, 1 step (from the words read), 2 commit
     reg [CW-1:0] w_ch;
     wire         w_read = w_on && w_s == 2'd0 && !rd_ctrl;   // the walker reads this clock
-    // POLL_CTRL and the engine's copy of the command are memories of this
-    // module (block RAM, as twh_ram's) so that its proof can name their words
-    (* ram_style = "block" *) (* no_rw_check *) reg [31:0] pc_mem [0:(1 << CW) - 1];
-    (* ram_style = "block" *) (* no_rw_check *) reg [15:0] cm_mem [0:(1 << CW) - 1];
+    // POLL_CTRL and the engine's copy of the command (below) are memories
+    // of this module, as twh_ram's, so that its proof can name their words
+    // (g_mem.pc_mem, g_mem.cm_mem: one label for either style)
     reg  [31:0]  pc_rd;
     reg  [15:0]  cm_rd;
-    always @(posedge clk) begin
-        if (wr && POLLING != 0) pc_mem[wr_ch] <= wr_data;
-        pc_rd <= pc_mem[rd_ctrl ? rd_ch : w_ch];
-    end
+    wire         cm_we;
+    reg  [15:0]  q_cmd;          // the step's: the command, the timer word, reload
+    generate
+        if (RAM_BLOCK != 0) begin : g_mem
+            (* ram_style = "block" *) (* no_rw_check *) reg [31:0] pc_mem [0:(1 << CW) - 1];
+            (* ram_style = "block" *) (* no_rw_check *) reg [15:0] cm_mem [0:(1 << CW) - 1];
+            always @(posedge clk) begin
+                if (wr && POLLING != 0) pc_mem[wr_ch] <= wr_data;
+                pc_rd <= pc_mem[rd_ctrl ? rd_ch : w_ch];
+                if (cm_we) cm_mem[w_ch] <= q_cmd;
+                cm_rd <= cm_mem[scan_ch];
+            end
+        end else begin : g_mem
+            (* no_rw_check *) reg [31:0] pc_mem [0:(1 << CW) - 1];
+            (* no_rw_check *) reg [15:0] cm_mem [0:(1 << CW) - 1];
+            always @(posedge clk) begin
+                if (wr && POLLING != 0) pc_mem[wr_ch] <= wr_data;
+                pc_rd <= pc_mem[rd_ctrl ? rd_ch : w_ch];
+                if (cm_we) cm_mem[w_ch] <= q_cmd;
+                cm_rd <= cm_mem[scan_ch];
+            end
+        end
+    endgenerate
     wire [15:0] tm_rd;
     wire        tm_we;
     reg  [15:0] tm_wd;
-    twh_ram #(.W(16), .AW(CW), .BLOCK(1)) u_timer (
+    twh_ram #(.W(16), .AW(CW), .BLOCK(RAM_BLOCK)) u_timer (
         .clk(clk), .we(tm_we), .waddr(w_ch), .wdata(q_tm), .raddr(w_ch), .rdata(tm_rd)
     );
-    wire        cm_we;
     wire [31:0] pc_w;
-    reg  [15:0] q_cmd;          // the step's: the command, the timer word, reload
-    reg  [15:0] q_tm;
+    reg  [15:0] q_tm;           // (with q_cmd) the step's: the timer word, reload
     reg         q_reload;
-    always @(posedge clk) begin
-        if (cm_we) cm_mem[w_ch] <= q_cmd;
-        cm_rd <= cm_mem[scan_ch];
-    end
     assign poll_cmd = cm_rd;
 
     // the walker's step for w_ch, from the words read a clock ago, registered
@@ -182,7 +197,7 @@ module twh_polls #(
     // ------------------------------------------------------------ POLL_RESULT
     wire [31:0] pr_wd = {p_count, p_status, p_data};
     wire [31:0] pr_rd;
-    twh_ram #(.W(32), .AW(CW), .BLOCK(1)) u_res (
+    twh_ram #(.W(32), .AW(CW), .BLOCK(RAM_BLOCK)) u_res (
         .clk(clk), .we(p_res && POLLING != 0), .waddr(p_ch), .wdata(pr_wd),
         .raddr(rd_ch), .rdata(pr_rd)
     );
@@ -237,16 +252,16 @@ module twh_polls #(
     always @(*) begin
         if (f_ok && POLLING != 0) begin
             // every POLL_CTRL word that polls names a read-only command
-            if (pc_wr[f_n] && pc_mem[f_n][31]) assert(f_ro(pc_mem[f_n][7:0]));
+            if (pc_wr[f_n] && g_mem.pc_mem[f_n][31]) assert(f_ro(g_mem.pc_mem[f_n][7:0]));
             // the walker's word is the memory's, unless a write met its read;
             // the command its step took is read-only when it falls due
-            if (w_on && w_s == 2'd1 && !w_dirty) assert(pc_rd == pc_mem[w_ch]);
+            if (w_on && w_s == 2'd1 && !w_dirty) assert(pc_rd == g_mem.pc_mem[w_ch]);
             if (w_on && w_s == 2'd2 && !w_dirty && q_reload && w_ch == f_n) assert(f_ro(q_cmd[7:0]));
             if (w_on) assert(w_s != 2'd3);
             if (w_on) assert(w_ch < CHANNELS);
             // a due poll's command, and one about to fall due, is read-only
-            if (due[f_n]) assert(f_ro(cm_mem[f_n][7:0]));
-            if (set_due && set_ch == f_n) assert(f_ro(cm_mem[f_n][7:0]) && !due[f_n]);
+            if (due[f_n]) assert(f_ro(g_mem.cm_mem[f_n][7:0]));
+            if (set_due && set_ch == f_n) assert(f_ro(g_mem.cm_mem[f_n][7:0]) && !due[f_n]);
         end
         // the engine's contract: a request with the command read for it
         if (f_past && f_sc == f_n && due[f_n]) assert(f_ro(poll_cmd[7:0]));

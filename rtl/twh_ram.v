@@ -20,15 +20,17 @@ module twh_ram #(
     output reg  [W-1:0]  rdata
 );
     // a read of the word written in the same clock is never used: the
-    // engine reads a channel's word at least four clocks after its write
+    // engine reads a channel's word at least four clocks after its write.
+    // Both branches are g_mem, so a proof names a word as g_mem.mem[a]
+    // whichever is built.
     generate
-        if (BLOCK != 0) begin : g_block
+        if (BLOCK != 0) begin : g_mem
             (* ram_style = "block" *) (* no_rw_check *) reg [W-1:0] mem [0:(1 << AW) - 1];
             always @(posedge clk) begin
                 if (we) mem[waddr] <= wdata;
                 rdata <= mem[raddr];
             end
-        end else begin : g_auto
+        end else begin : g_mem
             (* no_rw_check *) reg [W-1:0] mem [0:(1 << AW) - 1];
             always @(posedge clk) begin
                 if (we) mem[waddr] <= wdata;
