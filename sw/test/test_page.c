@@ -191,6 +191,24 @@ static void test_page_32_channels(void **state)
     assert_string_equal(ERR, "");
     assert_int_equal(F.bus_errors, 0);
     has(OUT, "core: 32 channels, FIFO depth 64, 48000 kHz, version 2.0 (fake core)\n");
+    /* The 32 tags are shared fairly: in the first half of the session every
+     * channel with a sensor has had about as many commands as any other
+     * (handed out in channel order, channels 0-15 took two each, round
+     * after round, and 16-31 waited for what was left). */
+    {
+        unsigned cnt[32] = {0}, lo = ~0u, hi = 0;
+
+        assert_true(F.n_pushed < FAKE_LOG_MAX);
+        for (k = 0; k < F.n_pushed / 2; k++)
+            cnt[F.pushed[k].ch]++;
+        for (k = 0; k < 32; k++) {
+            if (k == 5 || k == 6)
+                continue;
+            lo = cnt[k] < lo ? cnt[k] : lo;
+            hi = cnt[k] > hi ? cnt[k] : hi;
+        }
+        assert_true(hi - lo <= 2);
+    }
     for (k = 0; k < 32; k++) {
         const vec_map_t *v = &vec_maps[k % n];
 

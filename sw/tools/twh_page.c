@@ -72,6 +72,7 @@ typedef struct session {
     int         quick;
     chan_t      ch[MAX_CH];
     flight_t    flight[TAGS];    /* by tag */
+    int         next_ch;         /* where the next round of submits starts */
 } session_t;
 
 static session_t S;              /* large: kept off the stack */
@@ -205,28 +206,37 @@ static int run_queues(void (*on_result)(int ch, const item_t *it, const twh_resu
     int k, rc;
 
     for (;;) {
-        int busy = 0;
+        int busy = 0, pass, j, full = 0;
 
-        for (k = 0; k < S.t.channels; k++) {
-            chan_t *c = &S.ch[k];
-
-            /* the tag the driver gives next must not be one still in
-             * flight: with 32 channels more than 32 could be */
-            while (c->qlen > 0 && c->in_flight < IN_FLIGHT &&
-                   !S.flight[S.t.next_tag % TAGS].used) {
+        /* Fill the engines fairly: every channel with work gets its first
+         * command in flight before any gets its second, starting after the
+         * channel served last. The 32 tags are fewer than two commands on
+         * each of 32 channels: handed out in channel order, the low
+         * channels would take them all, round after round. */
+        for (pass = 0; pass < IN_FLIGHT && !full; pass++) {
+            for (j = 0; j < S.t.channels && !full; j++) {
+                chan_t *c;
                 item_t item, *it = &item;
                 uint8_t cmd;
                 uint16_t payload;
                 int tag;
 
+                k = (S.next_ch + j) % S.t.channels;
+                c = &S.ch[k];
+                /* the tag the driver gives next must not be one still in
+                 * flight: with 32 channels more than 32 could be */
+                if (c->qlen == 0 || c->in_flight > pass || S.flight[S.t.next_tag % TAGS].used)
+                    continue;
                 item.what = (uint8_t)(c->queue[c->qhead] >> 12);
                 item.addr = (uint16_t)(c->queue[c->qhead] & 0xFFFu);
                 encode(it, &cmd, &payload);
                 tag = twh_submit(&S.t, (uint8_t)k, cmd, payload);
                 if (link_failed())
                     return -1;
-                if (tag == TWH_ERR_FIFO_FULL)
+                if (tag == TWH_ERR_FIFO_FULL) {
+                    full = 1;
                     break;
+                }
                 if (tag < 0) {
                     fprintf(S.o->err, "twh_cli: channel %d: submit 0x%02X: error %d\n",
                             k, cmd, tag);
@@ -239,9 +249,11 @@ static int run_queues(void (*on_result)(int ch, const item_t *it, const twh_resu
                 c->qhead = (c->qhead + 1) % QUEUE_MAX;
                 c->qlen--;
                 c->in_flight++;
+                S.next_ch = (k + 1) % S.t.channels;
             }
-            busy |= c->qlen > 0 || c->in_flight > 0;
         }
+        for (k = 0; k < S.t.channels; k++)
+            busy |= S.ch[k].qlen > 0 || S.ch[k].in_flight > 0;
         if (!busy)
             return 0;
 
