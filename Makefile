@@ -21,6 +21,7 @@ include $(sort $(wildcard mk/*.mk))
 
 .PHONY: all deps test lint pytest swtest demo waves bench clean help regs check-regs
 .PHONY: fusesoc wavedrom check-wavedrom
+.PHONY: rig
 
 all: test
 
@@ -33,6 +34,7 @@ help:
 	@echo "make formal  - SymbiYosys proofs (docs/formal.md)"
 	@echo "make fuzz    - libFuzzer on the driver's decoders, FUZZ_SECONDS each (docs/fuzzing.md)"
 	@echo "make soak    - SOAK_TRANSACTIONS through the C driver on the Verilated core (docs/soak.md)"
+	@echo "make rig     - 16 modelled cells (RIG=32: 32) read at once on the Verilated core, rate vs the limit (docs/rig.md)"
 	@echo "make synth   - bitstreams for the three boards (docs/boards.md)"
 	@echo "make bench   - resources/Fmax (docs/resources.md), driver size, bus cost"
 	@echo "make fusesoc-synth - FuseSoC synthesis targets (synth_ice40, synth_ecp5, the three boards) through the YoWASP shims"

@@ -279,7 +279,7 @@ void Periph::handle_frame(double exec_end) {
     cur_.wire[2] = resp[2];
     cur_.nwire = 3;
     if (u01(rng_) < fault_rate_)
-        cur_.fault = static_cast<Fault>(1 + rng_() % 4);
+        cur_.fault = only_ != Fault::None ? only_ : static_cast<Fault>(1 + rng_() % 4);
     cur_.baud = uni(BAUD_MIN, BAUD_MAX);
     cur_.carrier_hz = uni(CARRIER_MIN, CARRIER_MAX);
     cur_.duty = uni(DUTY_MIN, DUTY_MAX);
@@ -368,6 +368,7 @@ void HostMonitor::edge(uint64_t cyc, bool o, bool oe) {
     if (oe_rise && in_listen_) {
         in_listen_ = false;
         listen_us.push_back(static_cast<double>(cyc - listen_start_) * cyc_us_);
+        listen_end_cyc = cyc;
         in_turn_ = true;
         turn_start_ = cyc;
     }
@@ -398,6 +399,103 @@ void HostMonitor::edge(uint64_t cyc, bool o, bool oe) {
         last_rise_ = cyc;
         have_rise_ = true;
     }
+}
+
+// ---------------------------------------------------------------- LineVcd
+bool LineVcd::open(const std::string &path, int nch, unsigned cyc_per_us,
+                   const std::vector<std::string> &labels) {
+    f_ = std::fopen(path.c_str(), "w");
+    if (!f_)
+        return false;
+    buf_.resize(1u << 20);
+    std::setvbuf(f_, buf_.data(), _IOFBF, buf_.size());
+    nch_ = nch;
+    cyc_per_us_ = left_ = cyc_per_us;
+    labels_ = labels;
+    std::fprintf(f_,
+                 "$version twowire-host rig (sim/soak/soak_main.cpp, docs/rig.md) $end\n"
+                 "$comment per line: chNN_oe, the host's drive enable (line_oe); chNN_env, "
+                 "the carrier envelope of the resolved line (1: carrier present); chNN_uart, "
+                 "the envelope, 1 where neither host nor cell drives (UART, 31250 baud); "
+                 "one sample a microsecond $end\n"
+                 "$timescale 1us $end\n$scope module rig $end\n");
+    for (int ch = 0; ch < nch; ++ch)
+        std::fprintf(f_,
+                     "$scope module ch%02d $end\n$var wire 1 o%d ch%02d_oe $end\n"
+                     "$var wire 1 e%d ch%02d_env $end\n$var wire 1 u%d ch%02d_uart $end\n"
+                     "$upscope $end\n",
+                     ch, ch, ch, ch, ch, ch, ch);
+    std::fprintf(f_, "$upscope $end\n$enddefinitions $end\n#0\n$dumpvars\n");
+    for (int ch = 0; ch < nch; ++ch)
+        std::fprintf(f_, "0o%d\n0e%d\n1u%d\n", ch, ch, ch);
+    std::fprintf(f_, "$end\n");
+    return true;
+}
+
+// Window us_ has just ended: window us_ - 1 is written, its envelope
+// bridged over a window without an edge when both neighbours have one.
+void LineVcd::window(unsigned oe, unsigned driven) {
+    left_ = cyc_per_us_;
+    const unsigned r_next = rise_;
+    rise_ = 0;
+    if (us_ >= 1) {
+        const unsigned env = r_cur_ | (r_prev_ & r_next);
+        emit(us_ - 1, env, oe_cur_, env | ~drv_cur_);
+    }
+    r_prev_ = r_cur_;
+    r_cur_ = r_next;
+    oe_cur_ = oe;
+    drv_cur_ = driven;
+    ++us_;
+}
+
+void LineVcd::emit(uint64_t t, unsigned env, unsigned oe, unsigned uart) {
+    const unsigned mask = nch_ >= 32 ? ~0u : (1u << nch_) - 1u;
+    uart &= mask;
+    const unsigned d_env = env ^ env_last_, d_oe = oe ^ oe_last_, d_uart = uart ^ (uart_last_ & mask);
+    if (!(d_env | d_oe | d_uart) || !f_)
+        return;
+    std::fprintf(f_, "#%llu\n", static_cast<unsigned long long>(t));
+    for (int ch = 0; ch < nch_; ++ch) {
+        if (d_oe >> ch & 1u)
+            std::fprintf(f_, "%uo%d\n", oe >> ch & 1u, ch);
+        if (d_env >> ch & 1u)
+            std::fprintf(f_, "%ue%d\n", env >> ch & 1u, ch);
+        if (d_uart >> ch & 1u)
+            std::fprintf(f_, "%uu%d\n", uart >> ch & 1u, ch);
+    }
+    env_last_ = env;
+    oe_last_ = oe;
+    uart_last_ = uart;
+}
+
+uint64_t LineVcd::close() {
+    if (!f_)
+        return 0;
+    std::fprintf(f_, "#%llu\n", static_cast<unsigned long long>(us_));
+    const long size = std::ftell(f_);
+    std::fclose(f_);
+    f_ = nullptr;
+    return size < 0 ? 0 : static_cast<uint64_t>(size);
+}
+
+bool LineVcd::write_gtkw(const std::string &path, const std::string &vcd_path) const {
+    FILE *f = std::fopen(path.c_str(), "w");
+    if (!f)
+        return false;
+    std::fprintf(f,
+                 "[*] GTKWave save file of make rig (docs/rig.md), written by the rig\n"
+                 "[*] per line: the host's drive enable, the carrier envelope, the envelope for UART\n"
+                 "[dumpfile] \"%s\"\n[timestart] 0\n[size] 1600 1000\n[pos] -1 -1\n"
+                 "[sst_width] 220\n[signals_width] 260\n[sst_expanded] 1\n",
+                 vcd_path.c_str());
+    for (int ch = 0; ch < nch_; ++ch) {
+        const std::string g = labels_.size() > static_cast<size_t>(ch) ? labels_[ch] : "";
+        std::fprintf(f, "@800200\n-ch%02d %s\n@28\nrig.ch%02d.ch%02d_oe\nrig.ch%02d.ch%02d_env\n"
+                        "rig.ch%02d.ch%02d_uart\n@1000200\n-ch%02d %s\n",
+                     ch, g.c_str(), ch, ch, ch, ch, ch, ch, ch, g.c_str());
+    }
+    return std::fclose(f) == 0;
 }
 
 LineDrive step_channels(std::vector<std::unique_ptr<Periph>> &periph,

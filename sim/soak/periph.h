@@ -13,6 +13,7 @@
 #pragma once
 
 #include <cstdint>
+#include <cstdio>
 #include <memory>
 #include <random>
 #include <string>
@@ -70,6 +71,9 @@ struct PeriphTxn {
 class Periph {
 public:
     Periph(const SoakProfile &pr, uint64_t seed, double fault_rate, double clk_hz);
+    // every fault drawn is this kind (the rig's cells); None: any of the
+    // four, drawn at random (the soak)
+    void only_fault(Fault f) { only_ = f; }
     // One clock: `line` is the resolved line after the edge, host_oe the
     // host's output enable (only used to detect a collision). Sets o/oe.
     void step(uint64_t cyc, bool line, bool host_oe) {
@@ -111,6 +115,7 @@ private:
     Device dev_;
     std::mt19937_64 rng_;
     double fault_rate_;
+    Fault only_ = Fault::None;
     double cyc_us_;            // microseconds per clock
     uint64_t gap_cyc_;         // no rising edge this long: the carrier stopped
     uint64_t quiet_cyc_;       // after an error: a gap this long ends it
@@ -146,6 +151,7 @@ public:
             edge(cyc, o, oe);
     }
     std::vector<double> listen_us, turnaround_us;
+    uint64_t listen_end_cyc = 0;   // the clock the last listen window ended
     double period_min_us = 1e9, period_max_us = 0, duty_min = 1, duty_max = 0;
     uint64_t periods = 0;
     std::vector<std::string> violations;
@@ -159,6 +165,47 @@ private:
     uint64_t last_rise_ = 0, last_fall_ = 0;
     bool in_listen_ = false, in_turn_ = false;
     uint64_t listen_start_ = 0, turn_start_ = 0;
+};
+
+// The rig's waveform (docs/rig.md), one sample a microsecond, written as a
+// VCD with a 1 us timescale (the raw carrier of every line would be
+// hundreds of MB). Per line: the host's drive enable; the envelope of the
+// resolved line (1: a carrier edge in this microsecond, or in both
+// neighbours: a 0.9 MHz carrier skips one now and then); and the same
+// envelope as a UART decoder wants it, 1 wherever neither the host nor the
+// cell drives the line (before the cell's answer, between transactions), so
+// 31.25 kbps UART decodes the host's commands and the cell's answers.
+// Bit 0-31: channel 0-31.
+class LineVcd {
+public:
+    // false when the file cannot be written
+    bool open(const std::string &path, int nch, unsigned cyc_per_us,
+              const std::vector<std::string> &labels);
+    bool is_open() const { return f_ != nullptr; }
+    // one clock: the resolved lines, the host's and the cells' drive enables
+    void step(unsigned line, unsigned oe, unsigned cell_oe) {
+        rise_ |= line & ~prev_;
+        prev_ = line;
+        if (--left_ == 0)
+            window(oe, oe | cell_oe);
+    }
+    // ends the file; its size in bytes
+    uint64_t close();
+    // a GTKWave save file for it: one group a line, named by labels
+    bool write_gtkw(const std::string &path, const std::string &vcd_path) const;
+
+private:
+    void window(unsigned oe, unsigned driven);
+    void emit(uint64_t t, unsigned env, unsigned oe, unsigned uart);
+    FILE *f_ = nullptr;
+    int nch_ = 0;
+    unsigned cyc_per_us_ = 1, left_ = 1;
+    unsigned rise_ = 0, prev_ = 0;           // rising edges in this window
+    unsigned r_prev_ = 0, r_cur_ = 0, oe_cur_ = 0, drv_cur_ = 0;
+    unsigned env_last_ = 0, oe_last_ = 0, uart_last_ = ~0u;
+    uint64_t us_ = 0;                        // windows ended
+    std::vector<std::string> labels_;
+    std::vector<char> buf_;
 };
 
 // One clock of every channel's model and host monitor, from the pins the

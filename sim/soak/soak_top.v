@@ -1,8 +1,10 @@
 // Soak top for Verilator: twh_wb with CHANNELS lines, each resolved by
 // tb_line (the same line the cocotb benches use) against the C++
 // peripheral model's drive. The clock comes from the C++ harness, which
-// steps it; no stuck lines or glitches here, the soak injects its faults in
-// the peripheral's answers.
+// steps it. The soak injects its faults in the peripheral's answers; the
+// rig (make rig, docs/rig.md) also holds a line stuck (stuck_en, stuck_val:
+// tb_line's fault, a bit a channel; the soak and the demo leave them 0). No
+// glitches here.
 `default_nettype none
 module soak_top #(
     parameter integer CLK_HZ     = 4_000_000,
@@ -27,7 +29,10 @@ module soak_top #(
     output wire [CHANNELS-1:0] line,
     // the peripheral models' drive
     input  wire [CHANNELS-1:0] periph_o,
-    input  wire [CHANNELS-1:0] periph_oe
+    input  wire [CHANNELS-1:0] periph_oe,
+    // a stuck line: bit ch set holds line ch at stuck_val[ch]
+    input  wire [CHANNELS-1:0] stuck_en,
+    input  wire [CHANNELS-1:0] stuck_val
 );
     twh_wb #(.CLK_HZ(CLK_HZ), .CHANNELS(CHANNELS), .FIFO_DEPTH(FIFO_DEPTH)) dut (
         .clk(clk), .rst(rst),
@@ -43,7 +48,7 @@ module soak_top #(
             tb_line u_line (
                 .host_o(line_o[ch]), .host_oe(line_oe[ch]),
                 .periph_o(periph_o[ch]), .periph_oe(periph_oe[ch]),
-                .stuck_en(1'b0), .stuck_val(1'b0), .glitch(1'b0),
+                .stuck_en(stuck_en[ch]), .stuck_val(stuck_val[ch]), .glitch(1'b0),
                 .line(line[ch])
             );
         end
