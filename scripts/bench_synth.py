@@ -51,6 +51,9 @@ CORE_RUNS = [("hx8k", FMAX_GOALS["hx8k"]), ("ecp5-25f", FMAX_GOALS["ecp5-25f"])]
 # the bare core's channel counts (the register map's 1-32); the board tops
 # and the seed spreads of the UP5K keep one and three
 CORE_CHANNELS = (1, 3, 8, 16, 32)
+# the HX8K counts whose Fmax is a median of seeds (issue 34's Fmax row: 1,
+# 3, 8 and 32 channels); 16 channels has its seed-1 run
+FMAX_CHANNELS = (1, 3, 8, 32)
 CHANNELS = (1, 3)
 # the structure before issue 34, one twh_link engine a channel in
 # flip-flops, measured beside the time-shared engine on the HX8K
@@ -59,6 +62,9 @@ ENGINE0 = {"ENGINE": "0"}
 # (PROG_TIMING = POLLING = 1); the lean build is what a board with fixed
 # timing and no poller would pick
 FIFO = {"FIFO_DEPTH": "16"}
+# per part, what a user of that part sets (docs/integration.md, RAM_BLOCK):
+# the ECP5 keeps the engine's and pollers' memories in LUT RAM
+PART_PARAMS = {"ecp5-25f": {"RAM_BLOCK": "0"}}
 LEAN = {"PROG_TIMING": "0", "POLLING": "0"}
 # nextpnr's placer seeds for the spread of the goal configurations (the
 # table itself is seed 1): a figure a few percent either side of a goal is
@@ -213,13 +219,86 @@ def goal_rows(runs, medians, no_boards):
         rows.append(vs_goal(what, lc[key], goal, "LC"))
     for part, label in (("hx8k", "HX8K twh_wb"), ("up5k", "UP5K iCEBreaker top"),
                         ("ecp5-25f", "ECP5-25F twh_wb")):
-        for ch in (CORE_CHANNELS if part == "hx8k" else CHANNELS):
+        for ch in (FMAX_CHANNELS if part == "hx8k" else CHANNELS):
             rows.append(vs_goal(f"Fmax, {label}, {ch} channel{'s' if ch > 1 else ''}, "
                                 f"median of seeds {SEEDS[0]}-{SEEDS[-1]}",
                                 medians.get((part, ch)), FMAX_GOALS[part], "MHz",
                                 at_most=False,
                                 why="--no-boards" if part == "up5k" and no_boards else None))
     return rows
+
+
+# Issue 34's anchors: what a further line costs in the open cores measured
+# on this flow (HX8K, seed 1; the issue's figures), drawn from this core's
+# one-channel figure as if each further channel cost that much
+ANCHORS = (("sockit_owm (one line at a time)", 2.9),
+           ("LiteX SPI-MMAP (one slot at a time)", 128.0),
+           ("a 16550 per port", 3357.0))
+LC_GOALS = ((1, 1267), (3, 1500), (8, 1900), (16, 2400), (32, 3400))
+
+
+def lc_chart(runs, path):
+    """docs/lc-vs-channels.svg: logic cells of twh_wb against the channel
+    count (HX8K, seed 1), the time-shared engine beside ENGINE = 0 (the
+    structure before issue 34) and the anchors, with issue 34's goals.
+    Plain SVG, no plotting library."""
+    eng = [(c, runs[f"hx8k-twh_wb-{c}"]["logic"]) for c in CORE_CHANNELS
+           if f"hx8k-twh_wb-{c}" in runs]
+    old = [(c, runs[f"hx8k-twh_wb-engine0-{c}"]["logic"]) for c in CORE_CHANNELS
+           if f"hx8k-twh_wb-engine0-{c}" in runs]
+    if not eng:
+        return False
+    base = eng[0][1]
+    w, h, l, r, t, b = 900, 420, 70, 400, 20, 50
+    ymax = 8000
+    def x(c):
+        return l + (c - 1) * (w - l - r) / 31
+    def y(v):
+        return t + (1 - min(v, ymax) / ymax) * (h - t - b)
+    def dashed(dash):
+        return f' stroke-dasharray="{dash}"' if dash else ""
+
+    def line(pts, colour, dash=""):
+        d = " ".join(f"{x(c):.1f},{y(v):.1f}" for c, v in pts)
+        return (f'<polyline points="{d}" fill="none" stroke="{colour}" stroke-width="2"'
+                f'{dashed(dash)}/>')
+    out = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" '
+           f'font-family="sans-serif" font-size="11">',
+           f'<rect width="{w}" height="{h}" fill="white"/>']
+    for v in range(0, ymax + 1, 1000):
+        out.append(f'<line x1="{l}" y1="{y(v):.1f}" x2="{w - r}" y2="{y(v):.1f}" stroke="#ddd"/>')
+        out.append(f'<text x="{l - 6}" y="{y(v) + 4:.1f}" text-anchor="end">{v}</text>')
+    for c in (1, 4, 8, 12, 16, 20, 24, 28, 32):
+        out.append(f'<text x="{x(c):.1f}" y="{h - b + 16}" text-anchor="middle">{c}</text>')
+    out.append(f'<text x="{(l + w - r) / 2:.1f}" y="{h - 12}" text-anchor="middle">'
+               f'channels</text>')
+    out.append(f'<text x="14" y="{(t + h - b) / 2:.1f}" transform="rotate(-90 14 '
+               f'{(t + h - b) / 2:.1f})" text-anchor="middle">logic cells (HX8K, seed 1; '
+               f'clipped at {ymax})</text>')
+    series = [(eng, "#1f77b4", "", "twh_wb, time-shared engine"),
+              (old, "#d62728", "", "twh_wb, ENGINE = 0 (1-8)")]
+    for (name, per), colour in zip(ANCHORS, ("#2ca02c", "#9467bd", "#8c564b")):
+        end = min(32.0, 1 + (ymax - base) / per)       # where it leaves the chart
+        series.append(([(1, base), (end, base + (end - 1) * per)], colour, "6,4",
+                       f"{name}: +{num(per)} LC a line"))
+    for i, (pts, colour, dash, label) in enumerate(series):
+        if pts:
+            out.append(line(pts, colour, dash))
+            out += [f'<circle cx="{x(c):.1f}" cy="{y(v):.1f}" r="3" fill="{colour}"/>'
+                    for c, v in pts if not dash]
+        ly = t + 12 + 18 * i
+        out.append(f'<line x1="{w - r + 12}" y1="{ly}" x2="{w - r + 36}" y2="{ly}" '
+                   f'stroke="{colour}" stroke-width="2"{dashed(dash)}/>')
+        out.append(f'<text x="{w - r + 42}" y="{ly + 4}">{label}</text>')
+    for c, g in LC_GOALS:
+        out.append(f'<text x="{x(c):.1f}" y="{y(g) + 4:.1f}" text-anchor="middle" '
+                   f'fill="#ff7f0e" font-size="14">x</text>')
+    ly = t + 12 + 18 * len(series)
+    out.append(f'<text x="{w - r + 18}" y="{ly + 4}" fill="#ff7f0e" font-size="14">x</text>')
+    out.append(f'<text x="{w - r + 42}" y="{ly + 4}">issue 34 goal</text>')
+    out.append("</svg>")
+    path.write_text("\n".join(out) + "\n")
+    return True
 
 
 def soc_rows(runs):
@@ -301,7 +380,7 @@ def run(a):
     runs = {}
     rows = []
     for part, mhz in CORE_RUNS:
-        builds = [(f"{part}-twh_wb-{ch}", {"CHANNELS": str(ch), **FIFO},
+        builds = [(f"{part}-twh_wb-{ch}", {"CHANNELS": str(ch), **FIFO, **PART_PARAMS.get(part, {})},
                    "twh_wb (bare core)") for ch in CORE_CHANNELS]
         if part == "hx8k":
             builds += [(f"{part}-twh_wb-lean-{ch}", {"CHANNELS": str(ch), **FIFO, **LEAN},
@@ -332,10 +411,11 @@ def run(a):
             if (synth.PNR_FLOW[fam] or synth.SYNTH_FLOW[fam]) and ch == 1 \
             else ((False, spread),)
     for part, mhz in CORE_RUNS:
-        for ch in (CORE_CHANNELS if part == "hx8k" else CHANNELS):
+        for ch in (FMAX_CHANNELS if part == "hx8k" else CHANNELS):
             name = f"{part}-twh_wb-{ch}"
             for default_flow, out in flows(part, ch):
-                line, median = seed_spread(part, "twh_wb", {"CHANNELS": str(ch), **FIFO},
+                line, median = seed_spread(part, "twh_wb",
+                                           {"CHANNELS": str(ch), **FIFO, **PART_PARAMS.get(part, {})},
                                            synth.core_sources(), mhz, name,
                                            first=None if default_flow else runs.get(name),
                                            default_flow=default_flow)
@@ -409,7 +489,7 @@ Fmax not shown):
 {chr(10).join(pieces)}
 
 Fmax of the goal configurations over nextpnr placer seeds {', '.join(map(str, SEEDS))}
-(one, three and, on the HX8K, eight channels; the UP5K against the
+(one, three and, on the HX8K, eight and 32 channels; the UP5K against the
 iCEBreaker top's 48 MHz goal, not its 12 MHz board clock):
 {chr(10).join(spread)}
 
@@ -422,6 +502,15 @@ Logic cells of twh_wb with 16-deep FIFOs on the HX8K (seed 1); Fmax the
 median over seeds {SEEDS[0]}-{SEEDS[-1]} above:
 
 {chr(10).join(goals)}
+
+![logic cells against channels](lc-vs-channels.svg)
+
+Logic cells against the channel count (`docs/lc-vs-channels.svg`, written
+by this bench): the time-shared engine, `ENGINE = 0` (one engine a channel
+in flip-flops, 1-8 channels) and issue 34's anchors, each drawn from this
+core's one-channel figure as if a further channel cost what a further
+line costs there (sockit_owm and LiteX SPI-MMAP serve one line at a time;
+a 16550 a port runs them concurrently).
 
 ## A soft CPU beside the core
 
@@ -436,6 +525,8 @@ core", "Still to do"); ENGINE = 0's in docs/architecture.md ("Area and
 speed").
 """
         Path(ROOT / a.write).write_text(text)
+        if lc_chart(runs, ROOT / "docs" / "lc-vs-channels.svg"):
+            print("bench: wrote docs/lc-vs-channels.svg")
         print(f"bench: wrote {a.write}")
     for line in per_ch + [""] + goals + [""] + soc:
         print(line)
