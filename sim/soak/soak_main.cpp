@@ -222,6 +222,7 @@ public:
     explicit Soak(const Options &o);
     int run();
     int run_page();
+    twh_page_opts_t page_opts(const char *where, FILE *out);
     int run_session();
     int run_rig();
 
@@ -1082,6 +1083,22 @@ int Soak::fail_report(const std::string &head, bool spec_ok) {
 // The pages and the interrupt waits are checked by soc/check_page.py against
 // the shared vectors (the same lines the SoC prints, with "demo:" for
 // "soc:"); every phase on the lines, the bus and the lines are checked here.
+// The page tool's options for a run on every channel of this harness,
+// printing to out (make demo's and the rig's page passes).
+twh_page_opts_t Soak::page_opts(const char *where, FILE *out) {
+    twh_page_opts_t o{};
+    o.quick = 0;
+    o.only = -1;
+    o.timeout_ms = 2000;
+    o.where = where;
+    o.out = out;
+    o.err = out;
+    o.failed = nullptr;           // the harness's bus cannot fail; it reports bus errors
+    o.now_us = h_now_us;
+    o.ctx = this;
+    return o;
+}
+
 int Soak::run_page() {
     std::printf("demo: the C driver on the Verilated twh_wb, %d channels at %u kHz (", NCH,
                 static_cast<unsigned>(SOAK_CLK_HZ / 1000));
@@ -1091,16 +1108,7 @@ int Soak::run_page() {
     std::fflush(stdout);
     const auto w0 = std::chrono::steady_clock::now();
     setup();
-    twh_page_opts_t o{};
-    o.quick = 0;
-    o.only = -1;
-    o.timeout_ms = 2000;
-    o.where = "Verilated twh_wb";
-    o.out = stdout;
-    o.err = stdout;
-    o.failed = nullptr;           // the harness's bus cannot fail; it reports bus errors
-    o.now_us = h_now_us;
-    o.ctx = this;
+    const twh_page_opts_t o = page_opts("Verilated twh_wb", stdout);
     const uint64_t c0 = cyc_;
     const int rc = twh_page_run(&plat_, &o);
     const uint64_t ms = (cyc_ - c0) / CYC_PER_US / 1000;
@@ -1568,16 +1576,7 @@ int Soak::run_rig() {
         std::perror("open_memstream");
         return 1;
     }
-    twh_page_opts_t o{};
-    o.quick = 0;
-    o.only = -1;
-    o.timeout_ms = 2000;
-    o.where = "Verilated twh_wb, the rig";
-    o.out = pf;
-    o.err = pf;
-    o.failed = nullptr;           // the harness's bus cannot fail; it reports bus errors
-    o.now_us = h_now_us;
-    o.ctx = this;
+    const twh_page_opts_t o = page_opts("Verilated twh_wb, the rig", pf);
     const uint64_t p0 = cyc_;
     const int page_rc = twh_page_run(&plat_, &o);
     const uint64_t p1 = cyc_;
