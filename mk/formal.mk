@@ -22,7 +22,8 @@ FORMAL_JOBS ?= \
     twh_link:c4 twh_link:c48 twh_link:c13_56 \
     twh_timing:ch1 twh_timing:ch3 twh_timing:ch6 twh_timing:fixed3 \
     twh_channel:prove twh_channel:cover \
-    twh_core:port twh_core:ch1 twh_core:ch2 twh_core:cover_ch2 \
+    twh_core:port twh_core:eng1 twh_core:eng2 twh_core:cover_eng2 \
+    twh_core:ch1 twh_core:ch2 twh_core:cover_ch2 \
     twh_engine:ch1 twh_engine:ch2 twh_engine:ch3 \
     twh_polls:ch2 twh_polls:ch3 twh_polls:cover3
 

@@ -1,5 +1,6 @@
 # The rig (issue 34, docs/rig.md): the C driver on the Verilated twh_wb with
-# RIG channels (16, or 32) at 32 MHz, one modelled cell a channel
+# RIG channels (16, or 32) at the engine's clock floor for RIG (RIG MHz, 5
+# below five channels: 16 or 32 MHz), one modelled cell a channel
 # (soc/cells.py: O2 v18, O2 v15 and CO2 in turn, each with its own serial,
 # every fifth from channel 4 injecting one of the soak's faults). The soak's
 # harness (sim/soak/) built for it, in --rig mode: every cell's sensor page
@@ -16,7 +17,7 @@ RIG         ?= 16
 RIG_LIVE_MS ?= 500
 RIG_ARGS    ?=
 
-RIG_CLK_HZ  := 32000000
+RIG_CLK_HZ  := $(shell echo $$(( ($(RIG) < 5 ? 5 : $(RIG)) * 1000000 )))
 RIG_FIFO    := 32
 RIG_DIR     := build/rig$(RIG)
 RIG_OBJ     := $(RIG_DIR)/obj

@@ -782,10 +782,13 @@ module twh_core #(
     // ================================================================ formal
     // The register-port contract holds on its own: reg_ack is a register of
     // the request. The command path is proven by formal/twh_core.sby with
-    // TWH_F_CORE: its channels are a stand-in (formal/twh_core_channel.v)
-    // that keeps twh_channel's proven contract, and the f_cf_* probes below
-    // are tied by that job (connect -set) to the command FIFO's pointers,
-    // output flag and RAM words, which twh_fifo exposes nowhere else.
+    // TWH_F_CORE: the engine is a stand-in that keeps its proven contract
+    // (ENGINE = 1: formal/twh_core_engine_stub.v, the time-shared engine's
+    // queues and result register; ENGINE = 0: formal/twh_core_channel.v,
+    // twh_channel's), and the f_cf_* and f_e_* probes below are tied by
+    // that job (connect -set) to the command FIFO's pointers, output flag
+    // and RAM words, which twh_fifo exposes nowhere else, and to the
+    // stand-in's queues.
     reg f_h = 1'b0;           // one clock of history
     always @(posedge clk) f_h <= 1'b1;
     always @(*) begin
@@ -1037,11 +1040,19 @@ module twh_core #(
     wire [CHANNELS+31:0] f_busy_w = {32'd0, c_busy};
     wire [31:0] f_busy8 = f_busy_w[31:0];
     integer f_j, f_k;
-    reg [4:0] f_inch;          // commands the channels hold, in slots and engines
+    // commands the channels hold: ENGINE = 0 in slots and engines, ENGINE =
+    // 1 in the engine's queues and its result register (the stand-in's
+    // probes, g_f_eng below)
+    reg [4:0] f_inch;
+    wire [4:0] f_inch_e;
     always @(*) begin
         f_inch = 5'd0;
-        for (f_j = 0; f_j < CHANNELS; f_j = f_j + 1)
-            f_inch = f_inch + {4'd0, slot_full[f_j]} + {4'd0, c_busy[f_j]};
+        if (ENGINE_N == 0) begin
+            for (f_j = 0; f_j < CHANNELS; f_j = f_j + 1)
+                f_inch = f_inch + {4'd0, slot_full[f_j]} + {4'd0, c_busy[f_j]};
+        end else begin
+            f_inch = f_inch_e;
+        end
     end
 
     // f_pend: commands accepted by CMD_PUSH minus results the result FIFO
@@ -1067,7 +1078,7 @@ module twh_core #(
     always @(*) if (f_ok && !rst && scan_v) assert(c_res_valid8[scan]);
     genvar f_n;
     generate
-        for (f_n = 0; f_n < CHANNELS; f_n = f_n + 1) begin : g_f_rw
+        for (f_n = 0; f_n < CHANNELS && ENGINE_N == 0; f_n = f_n + 1) begin : g_f_rw
             reg [3:0] w;
             always @(posedge clk)
                 if (rst || !c_res_valid[f_n] || res_full || (res_push && scan == f_n)) w <= 4'd0;
@@ -1101,27 +1112,62 @@ module twh_core #(
         else if (wr && !is_ch && g_reg == R_FACTORY_KEY) f_armed <= (q_wdata == `TWH_FACTORY_KEY);
     end
 
+    // ------------------------------------------------ the engine's stand-in
+    // ENGINE = 1 (formal/twh_core_engine_stub.v): its queues, entry i of
+    // channel c, counted from the head, at (c*4 + i)*17 ({skip, tag, code}),
+    // their counts, whether each head has started, starts now, or hands its
+    // result over now; probes tied by formal/twh_core.sby (connect -set)
+    (* keep *) wire [CHANNELS*68-1:0] f_e_q;
+    (* keep *) wire [CHANNELS*3-1:0]  f_e_n;
+    (* keep *) wire [CHANNELS-1:0]    f_e_st, f_e_strt, f_e_pop;
+    generate
+        if (ENGINE_N == 0) begin : g_f_e_none
+            assign f_e_q = {(CHANNELS*68){1'b0}};
+            assign f_e_n = {(CHANNELS*3){1'b0}};
+            assign {f_e_st, f_e_strt, f_e_pop} = {(CHANNELS*3){1'b0}};
+        end
+    endgenerate
+    reg [4:0] f_e_sum;
+    always @(*) begin
+        f_e_sum = {4'd0, e_res_valid};
+        for (f_j = 0; f_j < CHANNELS; f_j = f_j + 1)
+            f_e_sum = f_e_sum + {2'd0, f_e_n[f_j*3 +: 3]};
+    end
+    assign f_inch_e = f_e_sum;
+
     // ------------------------------------------------ one command, followed
     // An arbitrary accepted push is followed to its result: f_st 1 while in
-    // the command FIFO (f_pos words ahead of it), 2 in its channel's slot,
-    // 3 in that channel's engine. f_can: it must come out CANCELLED (a flush
-    // was written while it was queued or waiting in the slot, not yet
-    // started).
+    // the command FIFO (f_pos words ahead of it); ENGINE = 0: 2 in its
+    // channel's slot, 3 in that channel's engine; ENGINE = 1: 2 in its
+    // channel's queue in the engine (f_qp entries behind the head), 3 in the
+    // engine's result register. f_can: it must come out CANCELLED (a flush
+    // was written while it was queued, waiting in the slot, or in the
+    // engine's queue and not yet started).
     (* anyseq *) reg f_pick;
     reg [1:0]    f_st;
     reg [LW-1:0] f_pos;
+    reg [2:0]    f_qp;
     reg [34:0]   f_word;       // as pushed: {blocked, tag, channel, payload, code}
     reg          f_can, f_pf;
     reg          f_blk;        // it must come out BLOCKED (unless CANCELLED)
     wire [4:0]   f_ch    = f_word[28:24];
     wire         f_flush = wr && !is_ch && g_reg == R_CTRL && q_wdata[1];
-    // a flush last clock hit it waiting in the slot (it is still there)
-    wire         f_can_now = f_can || (f_st == 2'd2 && f_pf && slot_full8[f_ch]);
+    // a flush last clock hit it waiting in the slot (it is still there);
+    // ENGINE = 1 takes the flush in its own clock (f_can)
+    wire         f_can_now = f_can || (ENGINE_N == 0 && f_st == 2'd2 && f_pf && slot_full8[f_ch]);
     wire [3:0]   f_skip  = f_can_now ? `TWH_ST_CANCELLED :
                            f_blk ? `TWH_ST_BLOCKED : 4'd0;
     wire [31:0]  f_slot  = c_pc[f_ch*32 +: 32];    // stand-in: {skip, tag, code} in the slot
     wire [31:0]  f_eng   = c_pr[f_ch*32 +: 32];    // ... and in the engine
-    wire         f_mine  = res_push && scan == f_ch && f_st == 2'd3;  // its result goes in
+    // its result goes in
+    wire         f_mine  = res_push && (ENGINE_N != 0 || scan == f_ch) && f_st == 2'd3;
+    // ENGINE = 1: its queue's count and head, its entry, whether its head
+    // starts or hands over now
+    wire [2:0]   f_e_cnt  = f_e_n[f_ch*3 +: 3];
+    wire [16:0]  f_e_ent  = f_e_q[(f_ch*4 + f_qp)*17 +: 17];
+    wire         f_e_hst  = f_e_st[f_ch];
+    wire         f_e_go   = f_e_strt[f_ch];
+    wire         f_e_out  = f_e_pop[f_ch];
     // what its channel offers: {tag, status} and code (all of it only
     // counts while that channel's result is valid)
     wire [8:0]   f_res     = {c_res_tag[f_ch*5 +: 5], c_res_status[f_ch*4 +: 4]};
@@ -1145,11 +1191,21 @@ module twh_core #(
                           if (dispatch) begin
                               if (f_pos == {LW{1'b0}}) f_st <= 2'd2;
                               else                     f_pos <= f_pos - 1'b1;
+                              // behind the entries its queue keeps
+                              f_qp <= f_e_cnt - {2'd0, f_e_out};
                           end
                       end
-                2'd2: begin
+                2'd2: if (ENGINE_N == 0) begin
                           f_can <= f_can_now;
                           if (!slot_full8[f_ch]) f_st <= 2'd3;   // the engine took it
+                      end else begin
+                          // a flush cancels it unless it is the head and
+                          // has started (or starts now)
+                          if (f_flush && !(f_qp == 3'd0 && (f_e_hst || f_e_go))) f_can <= 1'b1;
+                          if (f_e_out) begin
+                              if (f_qp == 3'd0) f_st <= 2'd3;
+                              else              f_qp <= f_qp - 3'd1;
+                          end
                       end
                 default: if (f_mine) f_st <= 2'd0;
             endcase
@@ -1199,6 +1255,8 @@ module twh_core #(
                        {1'b0, disp_ch} < CH_COUNT && !slot_full8[disp_ch]);
             for (f_k = 0; f_k < CHANNELS; f_k = f_k + 1)
                 if (c_res_valid[f_k]) assert(c_busy[f_k]);     // stand-in state
+            // (ENGINE = 1: the result register's channel exists)
+            if (e_res_valid) assert({1'b0, e_res[32:28]} < CH_COUNT);
             // a flush counts down only the commands queued before it
             assert(flush_left <= cmd_level);
             assert(flushing == (flush_left != {LW{1'b0}}));
@@ -1222,32 +1280,57 @@ module twh_core #(
                 assert(f_can == (f_pos < flush_left));
             end
             if (f_st != 2'd0) assert({1'b0, f_ch} < CH_COUNT);
-            if (f_st == 2'd2 && slot_full8[f_ch])
-                // in the slot as pushed; blocked or cancelled as it must be
-                assert(f_slot[16:0] == {f_skip, f_word[33:29], f_word[7:0]});
-            if ((f_st == 2'd2 && !slot_full8[f_ch]) || f_st == 2'd3) begin
-                assert(f_busy8[f_ch] && f_eng[16:0] == {f_skip, f_word[33:29], f_word[7:0]});
-                if (f_st == 2'd2) assert(!c_res_valid8[f_ch[2:0]]);
-            end
-            // its one result, offered and then put into the result FIFO:
-            // its tag, channel and code, and its status
-            if (f_st == 2'd3 && c_res_valid8[f_ch[2:0]]) begin
-                assert(f_res[8:4] == f_word[33:29] && f_res_cmd == f_word[7:0]);
-                if (f_skip != 4'd0) assert(f_res[3:0] == f_skip);
-                else                assert(f_res[3:0] <= `TWH_ST_LINE_STUCK_HIGH);
+            if (ENGINE_N != 0) begin
+                // in its channel's queue as pushed, behind f_qp entries;
+                // blocked or cancelled as it must be (a started head no
+                // longer changes)
+                if (f_st == 2'd2)
+                    assert(f_qp < f_e_cnt && f_e_ent == {f_skip, f_word[33:29], f_word[7:0]});
+                // its one result, in the result register until the result
+                // FIFO takes it: its tag, channel and code, and its status
+                if (f_st == 2'd3) begin
+                    assert(e_res_valid && e_res[32:28] == f_ch && e_res[37:33] == f_word[33:29] &&
+                           e_res[23:16] == f_word[7:0]);
+                    if (f_skip != 4'd0) assert(e_res[27:24] == f_skip);
+                    else                assert(e_res[27:24] <= `TWH_ST_LINE_STUCK_HIGH);
+                end
+            end else begin
+                if (f_st == 2'd2 && slot_full8[f_ch])
+                    // in the slot as pushed; blocked or cancelled as it must be
+                    assert(f_slot[16:0] == {f_skip, f_word[33:29], f_word[7:0]});
+                if ((f_st == 2'd2 && !slot_full8[f_ch]) || f_st == 2'd3) begin
+                    assert(f_busy8[f_ch] && f_eng[16:0] == {f_skip, f_word[33:29], f_word[7:0]});
+                    if (f_st == 2'd2) assert(!c_res_valid8[f_ch[2:0]]);
+                end
+                // its one result, offered and then put into the result FIFO:
+                // its tag, channel and code, and its status
+                if (f_st == 2'd3 && c_res_valid8[f_ch[2:0]]) begin
+                    assert(f_res[8:4] == f_word[33:29] && f_res_cmd == f_word[7:0]);
+                    if (f_skip != 4'd0) assert(f_res[3:0] == f_skip);
+                    else                assert(f_res[3:0] <= `TWH_ST_LINE_STUCK_HIGH);
+                end
             end
         end
     end
 
     // the followed command does reach each ending, and a flush does catch
-    // one waiting in its slot
+    // one waiting in its slot (ENGINE = 1: in its queue)
     always @(posedge clk) begin
         if (f_ok && !rst) begin
             cover(f_mine && f_skip == 4'd0);
             cover(f_mine && f_skip == `TWH_ST_BLOCKED);
             cover(f_mine && f_skip == `TWH_ST_CANCELLED);
-            cover(f_st == 2'd2 && f_pf && slot_full8[f_ch] && !f_can);
-            cover(cmd_full && f_inch == 5'd2 * CH_COUNT);
+            if (ENGINE_N == 0) begin
+                cover(f_st == 2'd2 && f_pf && slot_full8[f_ch] && !f_can);
+                cover(cmd_full && f_inch == 5'd2 * CH_COUNT);
+            end else begin
+                // a flush catches it behind its queue's head, or does not
+                // as its head, started
+                cover(f_st == 2'd2 && f_flush && f_qp != 3'd0);
+                cover(f_st == 2'd2 && f_flush && f_qp == 3'd0 && f_e_hst && f_skip == 4'd0);
+                // the command FIFO fills behind a full queue
+                cover(cmd_full && f_e_n[2:0] == 3'd4);
+            end
         end
     end
 `endif

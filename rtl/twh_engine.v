@@ -30,8 +30,8 @@
 // keeps its own order. An entry stays at the head of its queue until its
 // result is handed over, so the frame's bytes and the result's code and tag
 // are read from the queue at every visit and never copied into the state.
-// A command with a non-zero skip code is answered with that status without
-// reaching the line; so is every entry a flush (cancel) found queued and not
+// A command with a skip code (BLOCKED or CANCELLED, the core's verdicts) is
+// answered with that status without reaching the line; so is every entry a flush (cancel) found queued and not
 // yet started (CANCELLED: a count per channel).
 //
 // Polls. A channel's due poll (poll_req, its command from poll_cmd) and its
@@ -92,7 +92,8 @@ module twh_engine #(
     input  wire [7:0]          s_cmd_code,
     input  wire [15:0]         s_cmd_payload,
     input  wire [TAG_W-1:0]    s_cmd_tag,
-    input  wire [3:0]          s_cmd_skip,
+    input  wire [3:0]          s_cmd_skip,     // 0, or the status to answer the command
+                                               // with unstarted: BLOCKED or CANCELLED
     // results
     output reg                 m_res_valid,
     input  wire                m_res_ready,
@@ -126,8 +127,6 @@ module twh_engine #(
     localparam integer FRAC = CLK_HZ % 1_000_000;
     localparam integer QW   = (QDEPTH > 1) ? $clog2(QDEPTH) : 1;
     localparam integer CN   = 1 << CW;
-    localparam integer QM1_I = QDEPTH - 1;
-    localparam [QW:0]  QFULL_M1 = QM1_I[QW:0];
 
     // The ranges (tb/test_params.py reads them and checks that every tool
     // names the error module of a value outside them). The clock floor is
@@ -162,12 +161,12 @@ module twh_engine #(
     localparam integer VT = U0 + 38;     // 2: ones among the bit's samples
     localparam integer NB = U0 + 40;     // 2: bytes received; tx: frame byte
     localparam integer AC = U0 + 42;     // inside a character
-    localparam integer ST = U0 + 43;     // a start bit passed its re-check
-    localparam integer FE = U0 + 44;     // framing error
-    localparam integer EN = U0 + 45;     // the answer ended in a break
-    localparam integer PL = U0 + 46;     // the transaction is a poll (its frame in SH)
-    localparam integer CT = U0 + 47;     // 12: polls completed (POLL_RESULT.COUNT)
-    localparam integer W  = U0 + 59;
+    localparam integer FE = U0 + 43;     // framing error
+    localparam integer EN = U0 + 44;     // the answer ended in a break
+    localparam integer PL = U0 + 45;     // the transaction is a poll (its frame in SH)
+    localparam integer CT = U0 + 46;     // 12: polls completed (POLL_RESULT.COUNT)
+    localparam integer W  = U0 + 58;     // 80: five iCE40 blocks of 16 bits
+    localparam integer UW = 45;          // the union's width
     localparam integer RS = U0 + 16;     // 4: the waiting result's status (data in U[15:0])
     localparam [W-1:0] W_RESET = {{(W-19){1'b0}}, `TWH_TURNAROUND_MIN + 16'd1, `TWH_PH_IDLE};
 
@@ -176,7 +175,7 @@ module twh_engine #(
     reg  [CN*QW-1:0]     q_head;
     reg  [CN*QW-1:0]     q_tail;
     reg  [CN*(QW+1)-1:0] q_cnt;
-    reg  [CN-1:0]        q_full;         // q_cnt == QDEPTH
+    wire [CN-1:0]        q_full;         // q_cnt == QDEPTH: its top bit (q_cnt <= QDEPTH)
     reg  [CN*3-1:0]      ph_q;           // each channel's phase, as its last visit wrote it
     reg  [CN-1:0]        init;           // the word was written since reset
     reg  [CHANNELS-1:0]  act;            // the head entry is started: running or its
@@ -230,20 +229,20 @@ module twh_engine #(
         .raddr(s0_ch), .rdata(st_rd)
     );
 
-    localparam integer QE = 8 + 16 + TAG_W + 4 + 8;     // code, payload, tag, skip, checksum
+    // An entry: code, payload (its high byte 0 in a 3-byte command), tag
+    // and the skip code in two bits (none, BLOCKED, CANCELLED: the only
+    // ones the core gives), 31 bits at the core's TAG_W of 5, so two iCE40
+    // blocks of 16 bits. The frame's checksum is taken after the read (S2).
+    localparam integer QE = 8 + 16 + TAG_W + 2;
+    localparam [1:0] SK_NONE = 2'd0, SK_BLOCKED = 2'd1, SK_CANCELLED = 2'd2;
     wire [QE-1:0] q_rd;
     wire          push = s_cmd_valid && s_cmd_ready;
-    // the frame's checksum is taken on the way in (NOTES.md: one's
-    // complement of the 8-bit sum), so none sits behind the queue's RAM
-    wire [7:0]    push_chk;
-    twh_checksum u_chk (
-        .a(s_cmd_code), .b(s_cmd_code[7] ? s_cmd_payload[15:8] : 8'd0),
-        .c(s_cmd_payload[7:0]), .chk(push_chk)
-    );
+    wire [1:0]    push_sk = (s_cmd_skip == `TWH_ST_CANCELLED) ? SK_CANCELLED :
+                            (s_cmd_skip == `TWH_ST_BLOCKED)   ? SK_BLOCKED : SK_NONE;
     twh_ram #(.W(QE), .AW(CW + QW), .BLOCK(RAM_BLOCK)) u_queue (
         .clk(clk), .we(push), .waddr({s_cmd_ch, q_tail[s_cmd_ch*QW +: QW]}),
         .wdata({s_cmd_code, s_cmd_code[7] ? s_cmd_payload[15:8] : 8'd0, s_cmd_payload[7:0],
-                s_cmd_tag, s_cmd_skip, push_chk}),
+                s_cmd_tag, push_sk}),
         .raddr({s0_ch, q_head[s0_ch*QW +: QW]}), .rdata(q_rd)
     );
     assign s_cmd_ready = !q_full[s_cmd_ch];
@@ -304,9 +303,13 @@ module twh_engine #(
     wire [7:0]       q_code = s2_q[QE-1 -: 8];
     wire [7:0]       q_pmsb = s2_q[QE-9 -: 8];
     wire [7:0]       q_plsb = s2_q[QE-17 -: 8];
-    wire [TAG_W-1:0] q_tag  = s2_q[12 +: TAG_W];
-    wire [3:0]       q_skip = s2_q[11:8];
-    wire [7:0]       q_chk  = s2_q[7:0];
+    wire [TAG_W-1:0] q_tag  = s2_q[2 +: TAG_W];
+    wire [3:0]       q_skip = (s2_q[1:0] == SK_CANCELLED) ? `TWH_ST_CANCELLED :
+                              (s2_q[1:0] == SK_BLOCKED)   ? `TWH_ST_BLOCKED : 4'd0;
+    // the frame's checksum (NOTES.md: one's complement of the 8-bit sum),
+    // off the step's path: it goes only into s3_q
+    wire [7:0]       q_chk;
+    twh_checksum u_chk (.a(q_code), .b(q_pmsb), .c(q_plsb), .chk(q_chk));
 
     // receiver fields
     wire [23:0] r_sh  = w[SH +: 24];
@@ -316,9 +319,12 @@ module twh_engine #(
     wire [1:0]  r_vt  = w[VT +: 2];
     wire [1:0]  r_nb  = w[NB +: 2];
     wire        r_ac  = w[AC];
-    wire        r_st  = w[ST];
     wire        r_fe  = w[FE];
     wire        r_en  = w[EN];
+    // a start bit passed its re-check (no bit of its own: a byte came, the
+    // answer ended, or a character is past its start's re-check at 19 us)
+    wire        r_st  = (r_nb != 2'd0) || r_fe || r_en ||
+                        (r_ac && (r_bn != 4'd0 || r_sub >= 5'd20));
     wire        r_done = (r_nb == 2'd3) || r_fe || r_en;
 
     // the answer as it stands (twh_link's precedence)
@@ -338,10 +344,10 @@ module twh_engine #(
     // the receiver's step (twh_rx, one tick): sample points 11, 15, 19 us
     // into a bit, the majority of the three, the start re-checked, one
     // stop bit checked, a break after eight 0 bits ends the answer
-    reg [45:0] rx_n;
+    reg [UW-1:0] rx_n;
     reg        bit_val;
     always @(*) begin
-        rx_n    = w[U0 +: 46];
+        rx_n    = w[U0 +: UW];
         bit_val = ({1'b0, r_vt} + {2'b00, env}) >= 3'd2;
         if (!r_done) begin
             rx_n[MK-U0 +: 5] = !env ? 5'd0 : (r_mk == 5'd16) ? r_mk : r_mk + 5'd1;
@@ -359,8 +365,8 @@ module twh_engine #(
                 if (r_sub == 5'd19) begin
                     rx_n[VT-U0 +: 2] = 2'd0;
                     if (r_bn == 4'd0) begin
-                        if (bit_val) rx_n[AC-U0] = 1'b0;    // a false start
-                        else         rx_n[ST-U0] = 1'b1;
+                        // a false start; else the character goes on
+                        if (bit_val) rx_n[AC-U0] = 1'b0;
                     end else if (r_bn != 4'd9) begin
                         rx_n[SH-U0 +: 24] = {bit_val, r_sh[23:1]};
                     end else begin
@@ -459,13 +465,13 @@ module twh_engine #(
                 if (last) begin
                     wn[2:0] = `TWH_PH_LISTEN;
                     wn[18:3] = s2_len;
-                    wn[U0 +: 46] = 46'd0;
+                    wn[U0 +: UW] = {UW{1'b0}};
                 end
             `TWH_PH_LISTEN:
                 if (last) begin
                     wn[2:0] = `TWH_PH_TURNAROUND;
                     wn[18:3] = s2_len;
-                    wn[U0 +: 46] = 46'd0;
+                    wn[U0 +: UW] = {UW{1'b0}};
                     wn[PL] = 1'b0;
                     if (w[PL]) wn[CT +: 12] = w[CT +: 12] + 12'd1;
                     if (!w[PL]) begin       // a poll's result leaves on p_res
@@ -474,7 +480,7 @@ module twh_engine #(
                         if (r_data_ok) wn[U0 +: 16] = {r_sh[7:0], r_sh[15:8]};
                     end
                 end else begin
-                    wn[U0 +: 46] = rx_n;
+                    wn[U0 +: UW] = rx_n;
                 end
             default:    // turnaround
                 if (last) begin
@@ -603,7 +609,6 @@ module twh_engine #(
                         q_head[n*QW +: QW]      <= {QW{1'b0}};
                         q_tail[n*QW +: QW]      <= {QW{1'b0}};
                         q_cnt[n*(QW+1) +: QW+1] <= {(QW+1){1'b0}};
-                        q_full[n]               <= 1'b0;
                         ph_q[n*3 +: 3]          <= `TWH_PH_IDLE;
                         init[n]                 <= 1'b0;
                     end else begin
@@ -611,11 +616,9 @@ module twh_engine #(
                         if (pushed) q_tail[n*QW +: QW] <= q_tail[n*QW +: QW] + 1'b1;
                         if (pop && !pushed) begin
                             q_cnt[n*(QW+1) +: QW+1] <= cnt_n - 1'b1;
-                            q_full[n]               <= 1'b0;
                         end
                         if (pushed && !pop) begin
                             q_cnt[n*(QW+1) +: QW+1] <= cnt_n + 1'b1;
-                            q_full[n]               <= (cnt_n == QFULL_M1);
                         end
                         if (at_s3) begin
                             ph_q[n*3 +: 3] <= s3_word[2:0];
@@ -632,6 +635,7 @@ module twh_engine #(
                 assign busy[n] = (cnt_n != {(QW+1){1'b0}});
                 assign pending[n] = (cnt_n != {{QW{1'b0}}, act[n]});
                 assign running[n] = act[n];
+                assign q_full[n]  = cnt_n[QW];
                 assign full[n]    = q_full[n];
                 assign phase[n*3 +: 3] = ph_q[n*3 +: 3];
                 assign fld[n*3 +: 3] = fld_of(ph_q[n*3 +: 3]);
@@ -640,14 +644,15 @@ module twh_engine #(
                 always @(posedge clk) begin
                     q_head[n*QW +: QW]      <= {QW{1'b0}};
                     q_tail[n*QW +: QW]      <= {QW{1'b0}};
-                    q_cnt[n*(QW+1) +: QW+1] <= {(QW+1){1'b0}};
-                    q_full[n]               <= 1'b1;    // no command is taken
+                    // full: no command is taken
+                    q_cnt[n*(QW+1) +: QW+1] <= {1'b1, {QW{1'b0}}};
                     ph_q[n*3 +: 3]          <= `TWH_PH_IDLE;
                     init[n]                 <= 1'b0;
                     pref[n]                 <= 1'b0;
                     ccnt[n*(QW+1) +: QW+1]  <= {(QW+1){1'b0}};
                 end
-                assign seen[n] = 1'b0;
+                assign seen[n]   = 1'b0;
+                assign q_full[n] = q_cnt[n*(QW+1) + QW];
             end
         end
     endgenerate
@@ -664,6 +669,9 @@ module twh_engine #(
 
     (* anyconst *) reg [CW-1:0] f_ch;
     always @(*) assume(f_ch < CHANNELS);
+    // the queue keeps a skip code in two bits: the core's are these
+    always @(*) if (s_cmd_valid) assume(s_cmd_skip == 4'd0 || s_cmd_skip == `TWH_ST_BLOCKED ||
+                                        s_cmd_skip == `TWH_ST_CANCELLED);
 
     // clocks since the last tick, and whether one came since reset
     reg [7:0] f_since;
