@@ -46,7 +46,7 @@ module twh_core_engine #(
     input  wire [4:0]             reg_ch,
     output wire [31:0]            rd_data,
     output wire [CHANNELS*3-1:0]  nx_fld,
-    input  wire [CHANNELS-1:0]    dur_we,
+    input  wire                   dur_v,
     input  wire [4:0]             dur_ch,
     input  wire [15:0]            dur,
     input  wire [2:0]             dur_fld,
@@ -186,7 +186,7 @@ module twh_core_engine #(
 
     // verilator lint_off UNUSEDSIGNAL
     wire unused = &{1'b0, ms_tick, tick, fall, idle_charge, wdata, pc_wr, reg_ch,
-                    dur_we, dur_ch, dur, dur_fld, cmd_payload, line_i, CLK_HZ[0], POLLING[0],
+                    dur_v, dur_ch, dur, dur_fld, cmd_payload, line_i, CLK_HZ[0], POLLING[0],
                     RAM_BLOCK[0]};
     // verilator lint_on UNUSEDSIGNAL
 endmodule

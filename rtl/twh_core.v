@@ -487,6 +487,7 @@ module twh_core #(
     // ------------------------------------------------------------ timing registers
     wire [31:0] t_rdata;
     wire [CHANNELS-1:0] t_dur_we;
+    wire                t_dur_v;
     wire [15:0] t_dur;
     wire [2:0]  t_dur_fld;
     wire [4:0]  t_dur_ch;
@@ -500,7 +501,7 @@ module twh_core #(
         .wr(t_wr), .wr_ch(q_blk), .wr_reg(q_treg),
         .wr_data(q_wdata), .wr_cmp(q_cmp),
         .rd_ch(q_blk), .rd_reg(q_treg), .rd_data(t_rdata),
-        .nx_fld(c_nx_fld), .dur_we(t_dur_we), .dur_ch(t_dur_ch), .dur(t_dur),
+        .nx_fld(c_nx_fld), .dur_we(t_dur_we), .dur_v(t_dur_v), .dur_ch(t_dur_ch), .dur(t_dur),
         .dur_fld(t_dur_fld)
     );
 
@@ -513,7 +514,7 @@ module twh_core #(
                 .enable(enable), .idle_charge(idle_charge[CH_N-1:0]),
                 .wdata(q_wdata), .pc_wr(q_wp && wr && q_win_p), .rd_ctrl(q_r_pc),
                 .rd_res(q_r_pr), .reg_ch(q_blk), .rd_data(p_rdata),
-                .nx_fld(c_nx_fld), .dur_we(t_dur_we), .dur_ch(t_dur_ch), .dur(t_dur),
+                .nx_fld(c_nx_fld), .dur_v(t_dur_v), .dur_ch(t_dur_ch), .dur(t_dur),
                 .dur_fld(t_dur_fld), .state(c_st), .poll_sample(c_sample), .poll_error(c_poll_err[0]),
                 .cmd_valid(dispatch), .cmd_ch(disp_ch), .cmd_code(h_cmd),
                 .cmd_payload(h_payload), .cmd_tag(h_tag), .cmd_skip(h_skip),
@@ -537,6 +538,7 @@ module twh_core #(
             // names its channel by number, not one-hot)
             // verilator lint_off UNUSEDSIGNAL
             wire unused_tick_nx = us_tick_nx;
+            wire unused_dur_we  = |t_dur_we;     // (the engine takes dur_v and dur_ch)
             wire unused_q_ch = |q_ch;
             // verilator lint_on UNUSEDSIGNAL
         end else begin : g_channels
@@ -546,7 +548,7 @@ module twh_core #(
             assign p_rdata = 32'd0;
             // (the channels' own registers answer POLL_CTRL / POLL_RESULT)
             // verilator lint_off UNUSEDSIGNAL
-            wire unused_r_p = q_r_pc | q_r_pr | ^t_dur_ch;
+            wire unused_r_p = q_r_pc | q_r_pr | ^t_dur_ch | t_dur_v;
             // verilator lint_on UNUSEDSIGNAL
         for (n = 0; n < CHANNELS; n = n + 1) begin : g_ch
             wire sel = q_ch[n];

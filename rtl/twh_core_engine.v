@@ -41,7 +41,7 @@ module twh_core_engine #(
     output wire [31:0]            rd_data,
     // phase lengths from twh_timing
     output wire [CHANNELS*3-1:0]  nx_fld,
-    input  wire [CHANNELS-1:0]    dur_we,
+    input  wire                   dur_v,
     input  wire [4:0]             dur_ch,
     input  wire [15:0]            dur,
     input  wire [2:0]             dur_fld,
@@ -97,7 +97,7 @@ module twh_core_engine #(
                  .CHECK_FLOOR(0), .RAM_BLOCK(RAM_BLOCK)) u_engine (
         .clk(clk), .rst(rst), .tick(tick), .fall(fall), .cfg_idle_charge(idle_charge),
         .enable(enable), .cancel(cancel), .poll_req(p_due), .poll_cmd(p_cmd), .scan_ch(scan_ch),
-        .t_we(|dur_we), .t_ch(t_ch), .t_fld(dur_fld), .t_len(dur),
+        .t_we(dur_v), .t_ch(t_ch), .t_fld(dur_fld), .t_len(dur),
         .s_cmd_valid(cmd_valid), .s_cmd_ready(cmd_ready), .s_cmd_ch(cmd_ch[CW-1:0]),
         .s_cmd_code(cmd_code), .s_cmd_payload(cmd_payload), .s_cmd_tag(cmd_tag),
         .s_cmd_skip(cmd_skip),

@@ -49,6 +49,9 @@ module twh_timing #(
     // engines
     input  wire [CHANNELS*3-1:0] nx_fld,     // per channel: field 1-6 it needs next
     output reg  [CHANNELS-1:0]   dur_we,
+    output reg                   dur_v,      // a length is handed over (|dur_we, kept
+                                             // apart: the time-shared engine reads only
+                                             // this and dur_ch, so dur_we's flip-flops go)
     output reg  [4:0]            dur_ch,     // dur_we's channel, by number
     output reg  [15:0]           dur,
     output reg  [2:0]            dur_fld
@@ -190,7 +193,9 @@ module twh_timing #(
     localparam integer ONE_I = 1;
     localparam [CHANNELS-1:0] ONE = ONE_I[CHANNELS-1:0];
     reg  [CHANNELS-1:0] p_we;
+    reg                 p_ok;
     always @(posedge clk) begin
+        p_ok  <= !rst && e_ok;
         p_v   <= e_fm1[0] ? e_val[31:16] : e_val[15:0];
         p_b   <= !lab && (e_fm1[0] ? e_val[34] : e_val[32]);
         p_a   <= !lab && (e_fm1[0] ? e_val[35] : e_val[33]);
@@ -213,12 +218,14 @@ module twh_timing #(
     always @(*) begin
         if (PROG != 0) begin
             dur_we  = p_we;
+            dur_v   = p_ok;
             dur_ch  = p_ch;
             dur     = p_b ? w_lo : p_a ? w_hi : p_v;
             dur_fld = p_fld;
         end else begin
             // the defaults lie in their windows: nothing to clamp
             dur_we  = ONE << f_ch;
+            dur_v   = 1'b1;
             dur_ch  = f_ch;
             dur     = (f_fld == 3'd2 || f_fld == 3'd4 || f_fld == 3'd6) ? fx_word[31:16] : fx_word[15:0];
             dur_fld = f_fld;
@@ -385,6 +392,8 @@ module twh_timing #(
                                dur == f_clamp(f2_halfn, f2_fld, f2_lab));
         end
         if (PROG != 0 && f_ok && !f2_ok) assert(dur_we == {CHANNELS{1'b0}});
+        // dur_v is "a length is handed over": dur_we's OR
+        if (f_ok) assert(dur_v == (dur_we != {CHANNELS{1'b0}}));
     end
     // the registered read address is the naming of a clock before
     generate
