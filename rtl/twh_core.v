@@ -500,7 +500,7 @@ module twh_core #(
         .clk(clk), .rst(rst), .lab(lab),
         .wr(t_wr), .wr_ch(q_blk), .wr_reg(q_treg),
         .wr_data(q_wdata), .wr_cmp(q_cmp),
-        .rd_ch(q_blk), .rd_reg(q_treg), .rd_data(t_rdata),
+        .rd(q_r_t), .rd_ch(q_blk), .rd_reg(q_treg), .rd_data(t_rdata),
         .nx_fld(c_nx_fld), .dur_we(t_dur_we), .dur_v(t_dur_v), .dur_ch(t_dur_ch), .dur(t_dur),
         .dur_fld(t_dur_fld)
     );

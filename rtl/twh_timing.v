@@ -6,8 +6,11 @@
 // channel; here they are block RAM (iCE40) or LUT RAM (ECP5) and one
 // pipeline for all channels.
 //
-// - Two copies of the words, written together: one read by the bus, one by
-//   the engines' fetch, so neither ever waits for the other.
+// - One copy of the words, each with its window flags, and one read port:
+//   the fetch reads it every clock but the one of a bus read (`rd`), which
+//   takes the port; the fetch of that clock is dropped and comes round
+//   again (three iCE40 blocks of 16 bits rather than a copy for each side's
+//   two and three).
 // - A word never written since reset reads its default (a flag per word
 //   cleared by rst), so a reset needs no walk through the memory.
 // - The core's request stage writes (its verdict taken: in the window, or
@@ -23,7 +26,8 @@
 //   one channel (a registered read address). An engine loads a length only
 //   when dur_fld names the field it needs, so a length is never taken from
 //   a stale fetch; a channel's field is fetched again within CHANNELS + 3
-//   clocks of a change of its value or of nx_fld.
+//   clocks of a change of its value or of nx_fld, and a round later for
+//   each bus read of a timing register in between.
 `default_nettype none
 `include "twh_defs.vh"
 module twh_timing #(
@@ -42,10 +46,12 @@ module twh_timing #(
     input  wire [1:0]            wr_reg,     // 0-2: TIMING0-2
     input  wire [31:0]           wr_data,
     input  wire [3:0]            wr_cmp,     // twh_window's flags of wr_data
-    // bus read
+    // bus read (rd: a read of TIMING0-2 now, the port is the bus's; the
+    // word of rd_ch, rd_reg a clock later)
+    input  wire                  rd,
     input  wire [4:0]            rd_ch,
     input  wire [1:0]            rd_reg,
-    output wire [31:0]           rd_data,    // one clock after rd_*
+    output wire [31:0]           rd_data,    // one clock after rd
     // engines
     input  wire [CHANNELS*3-1:0] nx_fld,     // per channel: field 1-6 it needs next
     output reg  [CHANNELS-1:0]   dur_we,
@@ -91,16 +97,14 @@ module twh_timing #(
         end
     endfunction
     localparam [NW-1:0] WORDS = words_mask(CHANNELS);
-    (* no_rw_check *) reg [31:0] mem_bus [0:NW-1];
-    (* no_rw_check *) reg [35:0] mem_eng [0:NW-1];
+    // {window flags, value}: the flags twh_window took of the value
+    (* no_rw_check *) reg [35:0] mem [0:NW-1];
     reg [NW-1:0] written;                 // word {ch, reg} holds a value
     wire [AW-1:0] wa = {wr_ch[AW-3:0], wr_reg};
     wire [AW-1:0] ra = {rd_ch[AW-3:0], rd_reg};
-    reg  [31:0] rb_word;
-    always @(posedge clk) begin
-        if (wr) mem_bus[wa] <= wr_data;
-        rb_word <= mem_bus[ra];
-    end
+    reg  [35:0] m_rd;                     // the port's word: the bus's after rd, else the fetch's
+    always @(posedge clk) if (wr) mem[wa] <= {wr_cmp, wr_data};
+    wire [31:0] rb_word = m_rd[31:0];
     // each flag from its own address compare (a shift of a one into the
     // whole vector put the write's verdict four LUTs deep); one block, so
     // Icarus wakes one process a clock, not one per word
@@ -120,9 +124,9 @@ module twh_timing #(
     assign rd_data = (PROG != 0 && rb_written) ? rb_word : def_word(rb_reg);
 
     // ------------------------------------------------------------ fetch
-    // stage 0: the channel in turn names its field and the word is read;
-    // stage 1: the field's half and flags picked; then the clamp, into the
-    // engine's register
+    // stage 0: the channel in turn names its field and the word is read
+    // (unless the bus reads: that fetch is dropped); stage 1: the field's
+    // half and flags picked; then the clamp, into the engine's register
     localparam integer LAST_I = CHANNELS - 1;
     localparam [4:0]   LAST_CH = LAST_I[4:0];
     reg  [4:0] f_ch;
@@ -138,7 +142,7 @@ module twh_timing #(
     // The read stage is written out in both branches: with the address as
     // a wire chosen by CHANNELS the one-channel netlist came out a dozen
     // LUTs larger (Yosys 0.70), where this keeps it the direct fetch's own.
-    reg  [35:0] e_word;
+    wire [35:0] e_word = m_rd;
     reg         e_written, e_ok;
     reg  [4:0]  e_ch;
     reg  [2:0]  e_fld;
@@ -158,24 +162,20 @@ module twh_timing #(
                 a_reg <= f_reg;
                 a_ok  <= !rst;
             end
-            always @(posedge clk) begin
-                if (wr) mem_eng[wa] <= {wr_cmp, wr_data};
-                e_word <= mem_eng[{a_ch[AW-3:0], a_reg}];
-            end
+            always @(posedge clk)
+                m_rd <= mem[rd ? ra : {a_ch[AW-3:0], a_reg}];
             always @(posedge clk) begin
                 e_written <= written[{a_ch[AW-3:0], a_reg}];
-                e_ok      <= !rst && a_ok && a_fld != 3'd0 && a_fld <= 3'd6;
+                e_ok      <= !rst && !rd && a_ok && a_fld != 3'd0 && a_fld <= 3'd6;
                 e_ch      <= a_ch;
                 e_fld     <= a_fld;
             end
         end else begin : g_direct
-            always @(posedge clk) begin
-                if (wr) mem_eng[wa] <= {wr_cmp, wr_data};
-                e_word <= mem_eng[{f_ch[AW-3:0], f_reg}];
-            end
+            always @(posedge clk)
+                m_rd <= mem[rd ? ra : {f_ch[AW-3:0], f_reg}];
             always @(posedge clk) begin
                 e_written <= written[{f_ch[AW-3:0], f_reg}];
-                e_ok      <= !rst && f_fld != 3'd0 && f_fld <= 3'd6;
+                e_ok      <= !rst && !rd && f_fld != 3'd0 && f_fld <= 3'd6;
                 e_ch      <= f_ch;
                 e_fld     <= f_fld;
             end
@@ -292,6 +292,9 @@ module twh_timing #(
         // (with PROG = 0 the core never writes: its PROG_TIMING is 0)
         if (wr) assume(PROG != 0 && wr_reg <= 2'd2 && wr_ch < CHANNELS &&
                        wr_cmp == f_flags(wr_reg, wr_data));
+        // a bus read names an existing channel's TIMING0-2, and a request
+        // is a read or a write
+        if (rd) assume(!wr && rd_reg <= 2'd2 && rd_ch < CHANNELS);
         for (f_c = 0; f_c < CHANNELS; f_c = f_c + 1)
             assume(nx_fld[f_c*3 +: 3] >= 3'd1 && nx_fld[f_c*3 +: 3] <= 3'd6);
     end
@@ -322,8 +325,7 @@ module twh_timing #(
     always @(*) begin
         if (f_ok) begin
             assert(written[f_a] == f_w);
-            if (f_w) assert(mem_bus[f_a] == f_val &&
-                            mem_eng[f_a] == {f_flags(f_areg, f_val), f_val});
+            if (f_w) assert(mem[f_a] == {f_flags(f_areg, f_val), f_val});
             // the fetch takes every channel in turn
             assert(f_ch < CHANNELS);
             // fixed timing: nothing is ever written
@@ -337,14 +339,15 @@ module twh_timing #(
     reg        f_rd = 1'b0;
     reg [31:0] f_rd_want;
     always @(posedge clk) begin
-        f_rd      <= f_ok && !rst && rd_ch == f_ach && rd_reg == f_areg && !f_wr_a;
+        f_rd      <= f_ok && !rst && rd && rd_ch == f_ach && rd_reg == f_areg;
         f_rd_want <= f_now;
     end
     always @(*) if (f_rd) assert(rd_data == f_rd_want);
 
     // ---- every fetch hands its channel the field it named, clamped into
     // the field's window unless lab was set in the clock after the read
-    // (above one channel the read is a clock after the naming: f0_*)
+    // (above one channel the read is a clock after the naming: f0_*), but
+    // the one a bus read displaced, which hands nothing over
     localparam [0:0] STAGE = (CHANNELS > 1);
     reg        f0_ok = 1'b0, f1_ok = 1'b0, f2_ok = 1'b0;
     reg        f1_hit, f2_hit, f2_lab;
@@ -361,7 +364,7 @@ module twh_timing #(
         f0_ok  <= f_ok && !rst;
         f0_ch  <= f_ch;
         f0_fld <= f_fld;
-        f1_ok  <= r_ok && !rst;
+        f1_ok  <= r_ok && !rst && !rd;
         f1_hit <= r_ch == f_ach && r_reg == f_areg;
         f1_ch  <= r_ch;
         f1_fld <= r_fld;

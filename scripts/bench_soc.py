@@ -27,11 +27,16 @@ Memory configurations of the same SoC (soc/twh_soc.py --variant hw):
                  place from the board's SPI flash (litespi, one bit wide,
                  as LiteX's iCEBreaker target), the SRAM in SPRAM: what a
                  UP5K board with the firmware of make soc would build
+  VexRiscv, flash  (UP5K only) the SERV, flash row with LiteX's default
+                 CPU: issue 34's three channels and the VexRiscv on the UP5K
+                 with no block RAM spent on a ROM
   PicoRV32, SPRAM, lean core  (UP5K only) the PicoRV32 row with the
                  core's lean build (PROG_TIMING = 0, POLLING = 0: fixed
                  spec timing, no poller), what a fixed-timing board with
                  three cells would pick; a fit check like the PicoRV32 row
-The SoC clock is 24 MHz (CLK_HZ of the core); nextpnr targets 24 MHz on the
+The core's memories are block RAM on the UP5K and LUT RAM on the ECP5
+(RAM_BLOCK = 0, as docs/integration.md has ECP5 builds set it; twh_soc.py
+--lut-ram). The SoC clock is 24 MHz (CLK_HZ of the core); nextpnr targets 24 MHz on the
 UP5K, 50 MHz on the ECP5. Yosys runs with the flow's options (iCE40:
 -dffe_min_ce_use 4, without which the flash build does not place); ECP5
 runs use nextpnr's default options (not the project's --tmg-ripup: it
@@ -72,13 +77,14 @@ CONFIGS = [("as simulated", 0x8000, 0x10000, None, 3, None, "vexriscv", False, F
            ("PicoRV32, SPRAM, lean core", 0x2000, 0x10000, 0x2000, 3, ["up5k"], "picorv32",
             True, True),
            ("SERV, SPRAM", 0x2000, 0x10000, 0x2000, 3, ["up5k"], "serv", True, False),
-           ("SERV, flash", 0, 0x10000, None, 3, ["up5k"], "serv", True, False)]
+           ("SERV, flash", 0, 0x10000, None, 3, ["up5k"], "serv", True, False),
+           ("VexRiscv, flash", 0, 0x10000, None, 3, ["up5k"], "vexriscv", True, False)]
 PARTS = [("up5k", 24.0, "30 EBR (4 kbit), 4 SPRAM (256 kbit, not inferred)"),
          ("ecp5-25f", 50.0, "56 DP16KD (18 kbit)")]
 
 
-def gen_verilog(name, rom_size, sram_size, fw, truncate, channels, cpu, spram, lean):
-    d = OUT / re.sub(r"\W+", "_", name)
+def gen_verilog(name, rom_size, sram_size, fw, truncate, channels, cpu, spram, lean, lut_ram):
+    d = OUT / (re.sub(r"\W+", "_", name) + ("_lutram" if lut_ram else ""))
     d.mkdir(parents=True, exist_ok=True)
     if rom_size == 0:
         mem = ["--flash"]               # no ROM: nothing to write its image for
@@ -90,7 +96,8 @@ def gen_verilog(name, rom_size, sram_size, fw, truncate, channels, cpu, spram, l
     subprocess.run([sys.executable, str(ROOT / "soc" / "twh_soc.py"), "--variant", "hw",
                     "--out", str(d), "--clk-hz", str(CLK_HZ), "--sram-size", hex(sram_size)]
                    + mem + ["--channels", str(channels), "--cpu", cpu]
-                   + (["--spram"] if spram else []) + (["--lean"] if lean else []), check=True,
+                   + (["--spram"] if spram else []) + (["--lean"] if lean else [])
+                   + (["--lut-ram"] if lut_ram else []), check=True,
                    stdout=subprocess.DEVNULL)
     gw = d / "gateware"
     files = [l for l in (gw / "sources.f").read_text().split() if not l.startswith("+incdir")]
@@ -207,12 +214,14 @@ def main():
     for name, rom_size, sram_size, truncate, channels, only, cpu, spram, lean in CONFIGS:
         if a.config and name not in a.config:
             continue
-        files, d = gen_verilog(name, rom_size, sram_size, fw, truncate, channels, cpu, spram,
-                               lean)
         desc = describe(name, rom_size, sram_size, channels, cpu, spram, lean)
         for part, freq, mem in PARTS:
             if (a.only and part != a.only) or (only and part not in only):
                 continue
+            # the core's memories as the part's builds set them: block RAM
+            # on the iCE40s, LUT RAM on the ECP5 (RAM_BLOCK = 0)
+            files, d = gen_verilog(name, rom_size, sram_size, fw, truncate, channels, cpu, spram,
+                                   lean, lut_ram=part.startswith("ecp5"))
             out = d / part
             rom_txt = f"ROM {rom_size // 1024:2} KiB" if rom_size else "SPI flash "
             label = (f"{part:9} {name:16} {channels} ch{' lean' if lean else ''}, {rom_txt} "

@@ -98,7 +98,7 @@ class TwoWireHost(Module):
     """rtl/twh_wb.v as a LiteX Wishbone slave with its irq and pins."""
 
     def __init__(self, platform, pads, clk_freq, channels=1, fifo_depth=16, rdl=str(RDL_PATH),
-                 prog_timing=True, polling=True):
+                 prog_timing=True, polling=True, ram_block=True):
         self.regmap = regmap = read_regmap(rdl)
         if not 1 <= channels <= regmap.ch_count:
             raise ValueError(f"channels must be 1-{regmap.ch_count}")
@@ -132,6 +132,7 @@ class TwoWireHost(Module):
             p_CLK_HZ=Constant(self.clk_hz, 32), p_CHANNELS=Constant(channels, 32),
             p_FIFO_DEPTH=Constant(fifo_depth, 32),
             p_PROG_TIMING=Constant(int(prog_timing), 32), p_POLLING=Constant(int(polling), 32),
+            p_RAM_BLOCK=Constant(int(ram_block), 32),
             i_clk=ClockSignal(), i_rst=ResetSignal(),
             i_wb_adr_i=Cat(Constant(0, 2), bus.adr[:word_bits]),
             i_wb_dat_i=bus.dat_w, o_wb_dat_o=bus.dat_r,
@@ -147,16 +148,18 @@ class TwoWireHost(Module):
 
 
 def add_twh(soc, name="twh", pads=None, channels=1, fifo_depth=16, origin=None,
-            prog_timing=True, polling=True):
+            prog_timing=True, polling=True, ram_block=True):
     """Adds a TwoWireHost to a LiteX SoC: its Wishbone window (uncached:
     put `origin` in an IO region, or let LiteX place it), its interrupt
     (when the CPU takes interrupts; without, the irq pin is left unused
     and software polls the core: the C driver with no wait_irq hook), and
     constants for software (<NAME>_CHANNELS, <NAME>_REG_<REG> offsets,
     <NAME>_CH_BASE/_CH_STRIDE, from the RDL). prog_timing=False,
-    polling=False: the lean build (docs/integration.md, "Lean builds")."""
+    polling=False: the lean build (docs/integration.md, "Lean builds").
+    ram_block=False: the core's RAM_BLOCK = 0, its engine's and pollers'
+    memories left to synthesis (LUT RAM on the ECP5; the iCE40s need 1)."""
     twh = TwoWireHost(soc.platform, pads, soc.sys_clk_freq, channels, fifo_depth,
-                      prog_timing=prog_timing, polling=polling)
+                      prog_timing=prog_timing, polling=polling, ram_block=ram_block)
     setattr(soc.submodules, name, twh)
     soc.bus.add_slave(name, twh.bus, SoCRegion(origin=origin, size=twh.size, cached=False))
     if soc.irq.enabled:

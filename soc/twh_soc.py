@@ -6,13 +6,14 @@ soc/twh_litex.py.
 
     twh_soc.py --variant sim --out build/soc/sim [--rom fw.bin]
     twh_soc.py --variant hw  --out build/soc/hw  [--rom fw.bin] [--cpu serv] [--spram]
-               [--flash] [--lean]
+               [--flash] [--lean] [--lut-ram]
 
 --cpu picorv32 / serv put one of the smaller RV32I CPUs in place of the
 VexRiscv (make soc simulates the VexRiscv and SERV; scripts/bench_soc.py's
 UP5K fit check takes PicoRV32 and SERV), --spram the SRAM in the UP5K's
 SPRAM blocks (hw only), --lean the core's lean build (PROG_TIMING = 0,
-POLLING = 0).
+POLLING = 0), --lut-ram the core's RAM_BLOCK = 0 (its engine's and pollers'
+memories in LUT RAM: what an ECP5 build sets, docs/integration.md).
 
 Writes OUT/gateware/twh_soc.v (+ the ROM/RAM .init files and sources.f,
 every Verilog file the SoC needs), OUT/software/include/generated/ (csr.h,
@@ -115,7 +116,7 @@ class TwhSoC(SoCCore):
     mem_map = {**SoCCore.mem_map}
 
     def __init__(self, variant, clk_hz, rom_size, sram_size, rom_init, channels=CHANNELS,
-                 cpu="vexriscv", spram=False, flash=False, lean=False):
+                 cpu="vexriscv", spram=False, flash=False, lean=False, lut_ram=False):
         platform = VerilogPlatform("", _io(variant, channels), name="twh_soc")
         if flash:
             self.mem_map = {**SoCCore.mem_map, "spiflash": FLASH_ORIGIN}
@@ -149,7 +150,7 @@ class TwhSoC(SoCCore):
         # window in their IO region)
         add_twh(self, "twh", pads=platform.request("twh"), channels=channels,
                 origin=TWH_ORIGIN if cpu == "vexriscv" else None,
-                prog_timing=not lean, polling=not lean)
+                prog_timing=not lean, polling=not lean, ram_block=not lut_ram)
 
 
 class HeaderBuilder(Builder):
@@ -176,6 +177,8 @@ def main():
                     help="no ROM: the firmware runs from SPI flash (hw only)")
     ap.add_argument("--lean", action="store_true",
                     help="the core's lean build: PROG_TIMING = 0, POLLING = 0")
+    ap.add_argument("--lut-ram", action="store_true",
+                    help="the core's RAM_BLOCK = 0: its engine's memories in LUT RAM (ECP5)")
     ap.add_argument("-v", "--verbose", action="store_true", help="LiteX's own log")
     a = ap.parse_args()
     if not a.verbose:
@@ -191,7 +194,7 @@ def main():
     if a.flash and a.variant != "hw":
         sys.exit("--flash: hw variant")
     soc = TwhSoC(a.variant, a.clk_hz, a.rom_size, a.sram_size, rom_init, a.channels,
-                 cpu=a.cpu, spram=a.spram, flash=a.flash, lean=a.lean)
+                 cpu=a.cpu, spram=a.spram, flash=a.flash, lean=a.lean, lut_ram=a.lut_ram)
     out = Path(a.out).resolve()
     builder = HeaderBuilder(soc, output_dir=str(out), compile_software=False,
                             compile_gateware=False)

@@ -106,7 +106,7 @@ module tb_link #(
     twh_timing #(.CHANNELS(1)) u_timing (
         .clk(clk), .rst(rst), .lab(cfg_unlock),
         .wr(t_wr), .wr_ch(5'd0), .wr_reg(t_reg), .wr_data(t_word), .wr_cmp(t_cmp),
-        .rd_ch(5'd0), .rd_reg(2'd0), .rd_data(t_rd_unused),
+        .rd(1'b0), .rd_ch(5'd0), .rd_reg(2'd0), .rd_data(t_rd_unused),
         .nx_fld(nx_fld), .dur_we(dur_we), .dur_v(), .dur_ch(), .dur(dur), .dur_fld(dur_fld)
     );
 

@@ -47,7 +47,7 @@ module tb_link_smoke;
     twh_timing #(.CHANNELS(1)) u_timing (
         .clk(clk), .rst(rst), .lab(1'b0),
         .wr(1'b0), .wr_ch(5'd0), .wr_reg(2'd0), .wr_data(32'd0), .wr_cmp(4'd0),
-        .rd_ch(5'd0), .rd_reg(2'd0), .rd_data(t_rd_unused),
+        .rd(1'b0), .rd_ch(5'd0), .rd_reg(2'd0), .rd_data(t_rd_unused),
         .nx_fld(nx_fld), .dur_we(dur_we), .dur_v(), .dur_ch(), .dur(dur), .dur_fld(dur_fld)
     );
 

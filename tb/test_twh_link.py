@@ -3,7 +3,9 @@
 Every test runs the independent spec monitor on the host pins (LinkTB) and
 fails on any breach of the spec's timing table, carrier, bit rate, framing
 or checksum. The pytest functions at the bottom build and run these cocotb
-tests on Icarus through the cocotb runner.
+tests on Icarus through the cocotb runner; test_link_engine runs every case
+against the time-shared engine with one channel too (tb/tb_link_engine.v,
+TWH_LINK_ENGINE), the step towards one engine (issue 34).
 """
 import json
 import os
@@ -24,6 +26,9 @@ from spec_monitor import SpecMonitor
 
 BLANK = 0x3FFF
 VECTORS = Path(__file__).resolve().parent / "vectors"
+# set by test_link_engine: the bench is tb_link_engine (the time-shared
+# engine with one channel), whose queue takes commands behind a held result
+ENGINE = os.environ.get("TWH_LINK_ENGINE") == "1"
 
 
 async def make_tb(dut, profile_name="o2_v18", faults=None, **timing):
@@ -402,8 +407,10 @@ async def back_to_back(dut):
 
 @cocotb.test()
 async def result_backpressure(dut):
-    """A result nobody takes is held; no new command is accepted meanwhile,
-    and nothing is lost."""
+    """A result nobody takes is held, and nothing is lost. twh_link takes no
+    new command meanwhile. The time-shared engine (TWH_LINK_ENGINE) queues
+    commands meanwhile and runs one more: its result waits in the channel
+    behind the held one, and nothing further starts."""
     tb, model, prof = await make_tb(dut)
     dut.m_res_ready.value = 0
     await tb.submit(0x41, 0xAA, 1)
@@ -411,13 +418,31 @@ async def result_backpressure(dut):
         await RisingEdge(dut.m_res_valid)
     await Timer(5, "ms")
     assert dut.m_res_valid.value == 1
-    assert dut.s_cmd_ready.value == 0
     assert int(dut.phase.value) == Phase.IDLE
+    if ENGINE:
+        seen = len(model.log)      # commands the cell has answered
+        await tb.submit(0x40, 0xAA, 2)
+        await tb.submit(0x42, 0xAA, 3)
+        await Timer(80, "ms")      # about four transactions' time
+        assert len(model.log) == seen + 1, [x.transcript() for x in model.log]
+        assert dut.m_res_valid.value == 1 and int(dut.m_res_tag.value) == 1
+        assert int(dut.phase.value) == Phase.IDLE
+    else:
+        assert dut.s_cmd_ready.value == 0
+    # ready from just after a rising edge, as LinkTB's collector expects
+    # (it looks at each result at the falling edge before the one that
+    # takes it)
+    await RisingEdge(dut.clk)
     dut.m_res_ready.value = 1
     res = await tb.result()
     assert res.tag == 1 and res.status == Status.OK, res
-    res = await tb.command(0x40, 0xAA, 2)
-    assert res.status == Status.OK, res
+    if ENGINE:
+        for code, tag in ((0x40, 2), (0x42, 3)):
+            res = await tb.result()
+            assert res.code == code and res.tag == tag and res.status == Status.OK, res
+    else:
+        res = await tb.command(0x40, 0xAA, 2)
+        assert res.status == Status.OK, res
     await tb.finish()
 
 
@@ -598,6 +623,18 @@ def _same_on_both(testcase, clk_hz, tag):
 def test_link(testcase):
     name = f"link_{testcase}"
     _run(testcase, 4_000_000, "verilator", name, seed_name=name)   # its twin's seed
+
+
+# The same cases against the time-shared engine with one channel
+# (tb/tb_link_engine.v: tb_link's ports around twh_engine), on Verilator:
+# the engine keeps every rule the link engine's cases pin.
+@pytest.mark.slow
+@pytest.mark.parametrize("testcase", LINK_NAMES)
+def test_link_engine(testcase):
+    simrun.run("tb_link_engine", "test_twh_link", f"link_engine_{testcase}",
+               parameters={"CLK_HZ": 4_000_000}, testcase=testcase,
+               tb_sources=["tb_link_engine.v"], sim="verilator",
+               extra_env={"TWH_CLK_HZ": "4000000", "TWH_LINK_ENGINE": "1"})
 
 
 @pytest.mark.slow

@@ -1,0 +1,158 @@
+// Test-bench top with tb_link's ports and behaviour around the
+// time-shared engine (twh_engine) with one channel, so that the link
+// engine's cases (tb/test_twh_link.py) run against the engine unchanged
+// (test_link_engine): the same line (tb_line), the same phase lengths
+// through twh_timing and its window flags, the same carrier. The engine
+// takes the length twh_timing hands over by number (dur_v, dur_ch) and
+// names the field its next phase loads (fld); it is always enabled, never
+// flushed and never polls here (the core's tests cover those).
+`timescale 1ns/1ps
+`default_nettype none
+module tb_link_engine #(
+    parameter integer CLK_HZ = 12_000_000
+) (
+    input  wire        rst,
+    // timing configuration, microseconds
+    input  wire [15:0] cfg_charge_us,
+    input  wire [15:0] cfg_sync_us,
+    input  wire [15:0] cfg_preamble_us,
+    input  wire [15:0] cfg_execute_us,
+    input  wire [15:0] cfg_listen_us,
+    input  wire [15:0] cfg_turnaround_us,
+    input  wire        cfg_idle_charge,
+    input  wire        cfg_unlock,
+    // command stream
+    input  wire        s_cmd_valid,
+    output wire        s_cmd_ready,
+    input  wire [7:0]  s_cmd_code,
+    input  wire [15:0] s_cmd_payload,
+    input  wire [7:0]  s_cmd_tag,
+    input  wire [3:0]  s_cmd_skip,
+    // result stream
+    output wire        m_res_valid,
+    input  wire        m_res_ready,
+    output wire [7:0]  m_res_code,
+    output wire [15:0] m_res_data,
+    output wire [3:0]  m_res_status,
+    output wire [7:0]  m_res_tag,
+    // host pins and status
+    output wire        line_o,
+    output wire        line_oe,
+    output wire        line_i,
+    output wire [2:0]  phase,
+    output wire        busy,
+    // the peripheral model and fault injection
+    input  wire        periph_o,
+    input  wire        periph_oe,
+    input  wire        stuck_en,
+    input  wire        stuck_val,
+    input  wire        glitch,
+    input  wire        dropout,
+    output wire        line
+);
+    reg clk = 1'b0;
+    localparam real HALF_NS = 1.0e9 / (2.0 * CLK_HZ);
+    always #(HALF_NS) clk = ~clk;
+
+    tb_line #(.PIN_LOG("pins_0.log"), .LINE_LOG("line_0.log")) u_line (
+        .host_o(line_o), .host_oe(line_oe), .periph_o(periph_o), .periph_oe(periph_oe),
+        .stuck_en(stuck_en), .stuck_val(stuck_val), .glitch(glitch), .line(line)
+    );
+    assign line_i = line && !dropout;
+
+    // The phase lengths reach the engine as in the core: through
+    // twh_timing, here with one channel, its words written from the cfg_*
+    // inputs one register per clock, with their window flags from the
+    // core's twh_window, and cfg_unlock as the lab unlock.
+    // (written for three clocks after a change of cfg_* or a reset, which
+    // clears them: a memory write every clock costs the simulation dearly,
+    // and so does comparing the lengths every clock; a change is seen by
+    // t_chg, which toggles only when one of them moves)
+    reg  [1:0]  t_reg = 2'd0;
+    reg  [1:0]  t_left = 2'd3;
+    reg         t_chg = 1'b0, t_chg_q = 1'b0;
+    wire [95:0] t_cfg = {cfg_charge_us, cfg_sync_us, cfg_preamble_us,
+                         cfg_execute_us, cfg_listen_us, cfg_turnaround_us};
+    always @(t_cfg) t_chg = !t_chg;
+    always @(posedge clk) if (rst || t_left != 2'd0 || t_chg != t_chg_q) begin
+        if (t_left != 2'd0) t_reg <= (t_reg == 2'd2) ? 2'd0 : t_reg + 2'd1;
+        t_chg_q <= t_chg;
+        if (rst || t_chg != t_chg_q) t_left <= 2'd3;
+        else if (t_left != 2'd0)     t_left <= t_left - 2'd1;
+    end
+    wire        t_wr = !rst && t_left != 2'd0;
+    wire [31:0] t_word = (t_reg == 2'd0) ? {cfg_sync_us, cfg_charge_us} :
+                         (t_reg == 2'd1) ? {cfg_execute_us, cfg_preamble_us} :
+                                           {cfg_turnaround_us, cfg_listen_us};
+    // (one checker per register, so each is evaluated only when its
+    // inputs change, not every clock)
+    wire [3:0]  t_cmp0, t_cmp1, t_cmp2;
+    twh_window u_w0 (.sel(2'd0), .value({cfg_sync_us, cfg_charge_us}),
+                     .lo_below(t_cmp0[0]), .lo_above(t_cmp0[1]),
+                     .hi_below(t_cmp0[2]), .hi_above(t_cmp0[3]));
+    twh_window u_w1 (.sel(2'd1), .value({cfg_execute_us, cfg_preamble_us}),
+                     .lo_below(t_cmp1[0]), .lo_above(t_cmp1[1]),
+                     .hi_below(t_cmp1[2]), .hi_above(t_cmp1[3]));
+    twh_window u_w2 (.sel(2'd2), .value({cfg_turnaround_us, cfg_listen_us}),
+                     .lo_below(t_cmp2[0]), .lo_above(t_cmp2[1]),
+                     .hi_below(t_cmp2[2]), .hi_above(t_cmp2[3]));
+    wire [3:0]  t_cmp = (t_reg == 2'd0) ? t_cmp0 : (t_reg == 2'd1) ? t_cmp1 : t_cmp2;
+    wire [2:0]  nx_fld, dur_fld;
+    wire [15:0] dur;
+    wire        dur_we;
+    wire [31:0] t_rd_unused;
+    wire        dur_v;
+    wire [4:0]  dur_ch;
+    twh_timing #(.CHANNELS(1)) u_timing (
+        .clk(clk), .rst(rst), .lab(cfg_unlock),
+        .wr(t_wr), .wr_ch(5'd0), .wr_reg(t_reg), .wr_data(t_word), .wr_cmp(t_cmp),
+        .rd(1'b0), .rd_ch(5'd0), .rd_reg(2'd0), .rd_data(t_rd_unused),
+        .nx_fld(nx_fld), .dur_we(dur_we), .dur_v(dur_v), .dur_ch(dur_ch), .dur(dur),
+        .dur_fld(dur_fld)
+    );
+
+    // the carrier's timebase, as the core's one twh_carrier gives it
+    wire tick, tick_nx, fall;
+    twh_carrier #(.CLK_HZ(CLK_HZ)) u_carrier (.clk(clk), .rst(rst), .tick(tick), .tick_nx(tick_nx),
+                                              .fall(fall));
+
+    wire        scan_unused;
+    wire        res_ch_unused;
+    wire        pending_unused, running_unused, full_unused, cancelling_unused;
+    wire        p_take_unused, p_res_unused, p_ch_unused;
+    wire [15:0] p_data_unused;
+    wire [3:0]  p_status_unused;
+    wire [11:0] p_count_unused;
+    twh_engine #(.CLK_HZ(CLK_HZ), .CHANNELS(1), .TAG_W(8)) dut (
+        .clk(clk), .rst(rst), .tick(tick), .fall(fall),
+        .cfg_idle_charge(cfg_idle_charge), .enable(1'b1), .cancel(1'b0),
+        .poll_req(1'b0), .poll_cmd(16'd0), .scan_ch(scan_unused),
+        .t_we(dur_v), .t_ch(dur_ch[0]), .t_fld(dur_fld), .t_len(dur),
+        .s_cmd_valid(s_cmd_valid), .s_cmd_ready(s_cmd_ready), .s_cmd_ch(1'b0),
+        .s_cmd_code(s_cmd_code), .s_cmd_payload(s_cmd_payload), .s_cmd_tag(s_cmd_tag),
+        .s_cmd_skip(s_cmd_skip),
+        .m_res_valid(m_res_valid), .m_res_ready(m_res_ready), .m_res_ch(res_ch_unused),
+        .m_res_code(m_res_code), .m_res_data(m_res_data),
+        .m_res_status(m_res_status), .m_res_tag(m_res_tag),
+        .line_o(line_o), .line_oe(line_oe), .line_i(line_i),
+        .busy(busy), .pending(pending_unused), .running(running_unused), .full(full_unused),
+        .cancelling(cancelling_unused), .phase(phase), .fld(nx_fld),
+        .p_take(p_take_unused), .p_res(p_res_unused), .p_ch(p_ch_unused), .p_data(p_data_unused),
+        .p_status(p_status_unused), .p_count(p_count_unused)
+    );
+    // verilator lint_off UNUSEDSIGNAL
+    wire unused = &{1'b0, dur_we, dur_ch[4:1], tick_nx, scan_unused, res_ch_unused, pending_unused,
+                    running_unused, full_unused, cancelling_unused, p_take_unused, p_res_unused,
+                    p_ch_unused, p_data_unused, p_status_unused, p_count_unused};
+    // verilator lint_on UNUSEDSIGNAL
+
+    // `make demo` asks for a small VCD of the pins with +vcd=<file>.
+    reg [1023:0] vcd_file;
+    initial begin
+        if ($value$plusargs("vcd=%s", vcd_file)) begin
+            $dumpfile(vcd_file);
+            $dumpvars(0, line_o, line_oe, line_i, phase, busy);
+        end
+    end
+endmodule
+`default_nettype wire
