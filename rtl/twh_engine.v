@@ -31,8 +31,9 @@
 // result is handed over, so the frame's bytes and the result's code and tag
 // are read from the queue at every visit and never copied into the state.
 // A command with a skip code (BLOCKED or CANCELLED, the core's verdicts) is
-// answered with that status without reaching the line; so is every entry a flush (cancel) found queued and not
-// yet started (CANCELLED: a count per channel).
+// answered with that status without reaching the line; so is every entry a
+// flush (cancel) found queued and not yet started (CANCELLED: a count per
+// channel).
 //
 // Polls. A channel's due poll (poll_req, its command from poll_cmd) and its
 // queued commands take turns. A poll has no queue entry: its frame goes into
