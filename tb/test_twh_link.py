@@ -4,8 +4,8 @@ Every test runs the independent spec monitor on the host pins (LinkTB) and
 fails on any breach of the spec's timing table, carrier, bit rate, framing
 or checksum. The pytest functions at the bottom build and run these cocotb
 tests on Icarus through the cocotb runner; test_link_engine runs every case
-against the time-shared engine with one channel too (tb/tb_link_engine.v,
-TWH_LINK_ENGINE), the step towards one engine (issue 34).
+against the time-shared engine with one channel too (tb/tb_link.v with
+ENGINE = 1, TWH_LINK_ENGINE), the step towards one engine (issue 34).
 """
 import json
 import os
@@ -26,8 +26,9 @@ from spec_monitor import SpecMonitor
 
 BLANK = 0x3FFF
 VECTORS = Path(__file__).resolve().parent / "vectors"
-# set by test_link_engine: the bench is tb_link_engine (the time-shared
-# engine with one channel), whose queue takes commands behind a held result
+# set by test_link_engine: the bench is tb_link with ENGINE = 1 (the
+# time-shared engine with one channel), whose queue takes commands behind a
+# held result
 ENGINE = os.environ.get("TWH_LINK_ENGINE") == "1"
 
 
@@ -560,7 +561,7 @@ async def clock_conformance(dut):
             await Timer(width_ps, "ps")
             dut.glitch.value = 0
             await Timer(3, "us")
-            assert dut.dut.u_demod.env.value == 0
+            assert dut.g_link.dut.u_demod.env.value == 0
     res = await tb.command(*p.write_cmd(0x31, 0x2AAA))
     assert res.status == Status.NO_RESPONSE, res
     res = await tb.command(*p.addr_cmd(0x48, 0x31))
@@ -625,15 +626,15 @@ def test_link(testcase):
     _run(testcase, 4_000_000, "verilator", name, seed_name=name)   # its twin's seed
 
 
-# The same cases against the time-shared engine with one channel
-# (tb/tb_link_engine.v: tb_link's ports around twh_engine), on Verilator:
-# the engine keeps every rule the link engine's cases pin.
+# The same cases against the time-shared engine with one channel (tb_link
+# with ENGINE = 1: its ports around twh_engine), on Verilator: the engine
+# keeps every rule the link engine's cases pin.
 @pytest.mark.slow
 @pytest.mark.parametrize("testcase", LINK_NAMES)
 def test_link_engine(testcase):
-    simrun.run("tb_link_engine", "test_twh_link", f"link_engine_{testcase}",
-               parameters={"CLK_HZ": 4_000_000}, testcase=testcase,
-               tb_sources=["tb_link_engine.v"], sim="verilator",
+    simrun.run("tb_link", "test_twh_link", f"link_engine_{testcase}",
+               parameters={"CLK_HZ": 4_000_000, "ENGINE": 1}, testcase=testcase,
+               tb_sources=LINK_SOURCES, sim="verilator",
                extra_env={"TWH_CLK_HZ": "4000000", "TWH_LINK_ENGINE": "1"})
 
 
