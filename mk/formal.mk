@@ -4,6 +4,7 @@
 #   make formal                    every job below, one at a time; PASS/FAIL
 #                                  and time per job, fails if any fails
 #   make formal FORMAL_JOBS=twh_fifo:prove_d4    chosen jobs only
+#   make formal FORMAL_AT_ONCE=2   two jobs side by side (CI)
 #
 # A job is <formal/*.sby without .sby>:<task>. Properties live in the RTL
 # under `ifdef FORMAL`; the .sby files pick module, parameters and mode.
@@ -28,8 +29,11 @@ FORMAL_JOBS ?= \
     twh_polls:ch2 twh_polls:ch3 twh_polls:cover3
 
 .PHONY: formal
+# jobs side by side (formal/run.sh's JOBS): 1 on a shared machine; CI, on
+# a machine of its own, runs 2
+FORMAL_AT_ONCE ?= 1
 formal: deps
-	@bash formal/run.sh $(FORMAL_JOBS)
+	@JOBS=$(FORMAL_AT_ONCE) bash formal/run.sh $(FORMAL_JOBS)
 
 # Each mutant of formal/mutants.tsv and the per-module lists (a deliberate
 # RTL bug or broken property) must make its job fail; not part of `formal`
