@@ -3,8 +3,9 @@
 // turn once per carrier period (1 us), so all channels run concurrently from
 // shared logic. Per channel, only what must run at the clock stays in
 // flip-flops: the pin logic (twh_engine_pin: synchroniser, glitch filter,
-// the window flags, the drive for the next period) and the command queue's
-// pointers.
+// the window flags, the drive for the next period), a flush's flag, and
+// copies of what the core reads of every channel at once (phase, queue
+// full / not empty / holding an unstarted entry, a flush's count left).
 //
 // The scan. The carrier's tick starts a scan: channel c is read (S0) in the
 // (c+1)th clock after the tick, its word and operands come out of the RAMs
@@ -25,7 +26,10 @@
 // clocks), P >= CHANNELS + 5, so every drive lands before the next tick.
 //
 // Commands. Each channel has a queue of QDEPTH entries in one RAM (its slice
-// {channel, index}), its pointers in flip-flops: a command for an idle
+// {channel, index}), its pointers in a control word of its own (a second
+// RAM, read a clock before the state word), moved only at its visit: a
+// command the port takes waits in one register for its channel's next
+// visit (at most a carrier period). A command for an idle
 // channel is never held behind one for a busy channel, and each channel
 // keeps its own order. An entry stays at the head of its queue until its
 // result is handed over, so the frame's bytes and the result's code and tag
@@ -109,8 +113,6 @@ module twh_engine #(
     input  wire [CHANNELS-1:0] line_i,
     output wire [CHANNELS-1:0] busy,           // a command queued or running
     output wire [CHANNELS-1:0] pending,        // a queued command not started yet
-    output wire [CHANNELS-1:0] running,        // its head command started: on the line, or
-                                               // its result waiting to be handed over
     output wire [CHANNELS-1:0] full,           // its queue is full
     output wire                cancelling,     // a flush's cancels are still to come
     output wire [CHANNELS*3-1:0] phase,        // each channel's phase as its last visit left it
@@ -171,18 +173,35 @@ module twh_engine #(
     localparam integer RS = U0 + 16;     // 4: the waiting result's status (data in U[15:0])
     localparam [W-1:0] W_RESET = {{(W-19){1'b0}}, `TWH_TURNAROUND_MIN + 16'd1, `TWH_PH_IDLE};
 
+    // ------------------------------------------------------------ control word
+    // Each channel's queue pointers and flags, a word of its own in block
+    // RAM (read a clock ahead of its state word, so the queue's and the
+    // timing RAM's reads at S0 take their addresses from it): head, tail,
+    // count, the flush's count of entries to cancel, the head started
+    // (`act`), a due poll goes next (`pref`), and the phase (the timing
+    // field the next phase loads is decoded from it).
+    localparam integer C_HD = 0;            // QW: the head entry
+    localparam integer C_TL = QW;           // QW: the next free entry
+    localparam integer C_CN = 2 * QW;       // QW+1: entries queued (<= QDEPTH)
+    localparam integer C_CC = 3 * QW + 1;   // QW+1: entries a flush cancelled, not started
+    localparam integer C_AC = 4 * QW + 2;   // the head entry is started (running, or its
+                                            // result waits)
+    localparam integer C_PF = 4 * QW + 3;   // a due poll goes before a queued command
+    localparam integer C_PH = 4 * QW + 4;   // 3: the phase
+    localparam integer CTW  = 4 * QW + 7;   // 15 at QDEPTH 4: one iCE40 block
+    localparam [CTW-1:0] CTL_RESET = {`TWH_PH_IDLE, {(4 * QW + 4){1'b0}}};
+
     // ------------------------------------------------------------ per channel
-    // (flat vectors: channel n's field at [n*width +: width])
-    reg  [CN*QW-1:0]     q_head;
-    reg  [CN*QW-1:0]     q_tail;
-    reg  [CN*(QW+1)-1:0] q_cnt;
-    wire [CN-1:0]        q_full;         // q_cnt == QDEPTH: its top bit (q_cnt <= QDEPTH)
-    reg  [CN*3-1:0]      ph_q;           // each channel's phase, as its last visit wrote it
-    reg  [CN-1:0]        init;           // the word was written since reset
-    reg  [CHANNELS-1:0]  act;            // the head entry is started: running or its
-                                         // result waiting (act <= q_cnt)
-    reg  [CN-1:0]        pref;           // a due poll goes before a queued command
-    reg  [CN*(QW+1)-1:0] ccnt;           // entries a flush cancelled, not started yet
+    // (flip-flops; what the core reads of every channel at once, copied
+    // from the control word at each visit's write, and a flush's flag)
+    reg  [CHANNELS*3-1:0] ph_q;          // each channel's phase, as its last visit wrote it
+    reg  [CN-1:0]        init;           // the words were written since reset
+    reg  [CN-1:0]        full_m;         // its queue is full (count QDEPTH)
+    reg  [CHANNELS-1:0]  busy_m;        // its queue is not empty
+    reg  [CHANNELS-1:0]  pend_m;        // an entry queued and not started
+    reg  [CN-1:0]        cz_m;           // a flush's count left
+    reg  [CN-1:0]        fpend;          // a flush came since its last visit's S1: its
+                                         // next visit counts what the flush cancels
     wire [CN-1:0]        seen;
 
     // ------------------------------------------------------------ scan
@@ -230,52 +249,111 @@ module twh_engine #(
         .raddr(s0_ch), .rdata(st_rd)
     );
 
+    // The control word is read a clock ahead of S0 (`pre`: the channel S0
+    // takes next) and written with the state word at S3. At P = 4 a
+    // channel's write and its next read are in the same clock, so the read
+    // takes the word being written (`s0_fwd`); a longer period leaves a
+    // clock between them.
+    localparam integer FWD = (FRAC == 0 && P < 5) ? 1 : 0;
+    wire          pre_v  = tick || (s0_v && s0_ch != LAST_CH);
+    wire [CW-1:0] pre_ch = tick ? {CW{1'b0}} : s0_ch + 1'b1;
+    wire [CTW-1:0] c_rd;
+    reg  [CTW-1:0] s3_ctl;
+    twh_ram #(.W(CTW), .AW(CW), .BLOCK(RAM_BLOCK)) u_ctl (
+        .clk(clk), .we(s3_v), .waddr(s3_ch), .wdata(s3_ctl),
+        .raddr(pre_ch), .rdata(c_rd)
+    );
+    reg            s0_init, s0_fwd;
+    reg  [CTW-1:0] s0_fv;
+    always @(posedge clk) begin
+        s0_init <= init[pre_ch];
+        s0_fwd  <= (FWD != 0) && pre_v && s3_v && (s3_ch == pre_ch);
+        s0_fv   <= s3_ctl;
+    end
+    // the channel's control word as its last visit wrote it (the reset
+    // word for a channel not written since reset)
+    wire [CTW-1:0] c0 = s0_fwd ? s0_fv : s0_init ? c_rd : CTL_RESET;
+
     // An entry: code, payload (its high byte 0 in a 3-byte command), tag
     // and the skip code in two bits (none, BLOCKED, CANCELLED: the only
     // ones the core gives), 31 bits at the core's TAG_W of 5, so two iCE40
     // blocks of 16 bits. The frame's checksum is taken after the read (S2).
+    //
+    // A command the port takes waits in one register (`b_*`) for its
+    // channel's next visit, which writes it at the queue's tail (S3) with
+    // the control word, so the queue's pointers are only ever moved by a
+    // visit. The port takes a command while that register is empty and its
+    // channel's queue not full (`full` is either); a flush marks the
+    // waiting command CANCELLED, as it does a queued one.
     localparam integer QE = 8 + 16 + TAG_W + 2;
     localparam [1:0] SK_NONE = 2'd0, SK_BLOCKED = 2'd1, SK_CANCELLED = 2'd2;
     wire [QE-1:0] q_rd;
     wire          push = s_cmd_valid && s_cmd_ready;
     wire [1:0]    push_sk = (s_cmd_skip == `TWH_ST_CANCELLED) ? SK_CANCELLED :
                             (s_cmd_skip == `TWH_ST_BLOCKED)   ? SK_BLOCKED : SK_NONE;
+    reg           b_v;
+    reg  [CW-1:0] b_ch;
+    reg  [QE-1:0] b_e;
+    reg           s3_ins;       // the visit writes the waiting command ...
+    reg  [QW-1:0] s3_tl;        // ... at this entry
+    always @(posedge clk) begin
+        if (rst) begin
+            b_v <= 1'b0;
+        end else begin
+            if (s3_v && s3_ins) b_v <= 1'b0;
+            if (push)           b_v <= 1'b1;
+        end
+        if (push) begin
+            b_ch <= s_cmd_ch;
+            b_e  <= {s_cmd_code, s_cmd_code[7] ? s_cmd_payload[15:8] : 8'd0, s_cmd_payload[7:0],
+                     s_cmd_tag, push_sk};
+        end else if (cancel) begin
+            b_e[1:0] <= SK_CANCELLED;
+        end
+    end
     twh_ram #(.W(QE), .AW(CW + QW), .BLOCK(RAM_BLOCK)) u_queue (
-        .clk(clk), .we(push), .waddr({s_cmd_ch, q_tail[s_cmd_ch*QW +: QW]}),
-        .wdata({s_cmd_code, s_cmd_code[7] ? s_cmd_payload[15:8] : 8'd0, s_cmd_payload[7:0],
-                s_cmd_tag, push_sk}),
-        .raddr({s0_ch, q_head[s0_ch*QW +: QW]}), .rdata(q_rd)
+        .clk(clk), .we(s3_v && s3_ins), .waddr({s3_ch, s3_tl}), .wdata(b_e),
+        .raddr({s0_ch, c0[C_HD +: QW]}), .rdata(q_rd)
     );
-    assign s_cmd_ready = !q_full[s_cmd_ch];
+    assign s_cmd_ready = !b_v && !full_m[s_cmd_ch];
 
     wire [15:0] t_rd;
     twh_ram #(.W(16), .AW(CW + 3), .BLOCK(RAM_BLOCK)) u_timing (
         .clk(clk), .we(t_we), .waddr({t_ch, t_fld}), .wdata(t_len),
-        .raddr({s0_ch, fld_of(ph_q[s0_ch*3 +: 3])}), .rdata(t_rd)
+        .raddr({s0_ch, fld_of(c0[C_PH +: 3])}), .rdata(t_rd)
     );
 
     // ------------------------------------------------------------ S1, S2
-    reg          s1_v, s1_init, s1_env, s1_ne;
-    reg [CW-1:0] s1_ch;
+    reg           s1_v, s1_init, s1_env;
+    reg [CW-1:0]  s1_ch;
+    reg [CTW-1:0] s1_c;
     always @(posedge clk) begin
         s1_v    <= !rst && s0_v;
         s1_ch   <= s0_ch;
-        s1_init <= init[s0_ch];
+        s1_init <= s0_init || s0_fwd;
         s1_env  <= seen[s0_ch];
-        s1_ne   <= q_cnt[s0_ch*(QW+1) +: QW+1] != {(QW+1){1'b0}};
+        s1_c    <= c0;
     end
-    reg          s2_v, s2_env, s2_ne, s2_last;
-    reg [CW-1:0] s2_ch;
-    reg [W-1:0]  s2_w;
-    reg [QE-1:0] s2_q;
-    reg [15:0]   s2_len;
-    reg          s2_pr, s2_pf, s2_cc;
-    reg [15:0]   s2_pc;
+    // a flush since the channel's last visit (or in this clock) cancels
+    // what its queue holds and has not started; else the count left stands
+    wire [QW:0]   c1_cnt = s1_c[C_CN +: QW+1];
+    wire [QW:0]   c1_cc  = (fpend[s1_ch] || cancel) ? c1_cnt - {{QW{1'b0}}, s1_c[C_AC]}
+                                                    : s1_c[C_CC +: QW+1];
+    reg           s2_v, s2_env, s2_ne, s2_last;
+    reg [CW-1:0]  s2_ch;
+    reg [W-1:0]   s2_w;
+    reg [QE-1:0]  s2_q;
+    reg [15:0]    s2_len;
+    reg           s2_pr, s2_cc;
+    reg [QW:0]    s2_ccnt;
+    reg [CTW-1:0] s2_c;
+    reg [15:0]    s2_pc;
     always @(posedge clk) begin
         s2_v    <= !rst && s1_v;
         s2_ch   <= s1_ch;
         s2_env  <= s1_env;
-        s2_ne   <= s1_ne;
+        s2_ne   <= c1_cnt != {(QW+1){1'b0}};
+        s2_c    <= s1_c;
         // the word as read, or the state after reset for a channel not yet
         // visited since: idle, the minimum turnaround (and one) before a charge
         s2_w    <= s1_init ? st_rd : W_RESET;
@@ -285,12 +363,11 @@ module twh_engine #(
         // what the step chooses from, taken a clock ahead (off the step's
         // path): the poll's request and command together, so a poll-control
         // write in between starts at most the poll that was due, with the
-        // command it was checked with; a flush's count, and a flush in this
-        // very clock (its count, written now, covers this head: act is 0)
+        // command it was checked with; a flush's count
         s2_pr   <= !rst && poll_req[s1_ch];
         s2_pc   <= poll_cmd;
-        s2_pf   <= pref[s1_ch];
-        s2_cc   <= (ccnt[s1_ch*(QW+1) +: QW+1] != {(QW+1){1'b0}}) || cancel;
+        s2_ccnt <= c1_cc;
+        s2_cc   <= c1_cc != {(QW+1){1'b0}};
     end
 
     // ------------------------------------------------------------ S2: the step
@@ -392,7 +469,7 @@ module twh_engine #(
     wire [3:0]   h_skip  = s2_cc ? `TWH_ST_CANCELLED : q_skip;
     wire         cmd_go  = s2_ne && (enable || h_skip != 4'd0);
     wire         poll_go = enable && s2_pr;
-    wire         use_poll = poll_go && (s2_pf || !cmd_go);
+    wire         use_poll = poll_go && (s2_c[C_PF] || !cmd_go);
     wire [15:0]  p_cmd   = s2_pc;
     wire [7:0]   p_chk;
     twh_checksum u_pchk (.a(p_cmd[7:0]), .b(8'd0), .c(p_cmd[15:8]), .chk(p_chk));
@@ -491,9 +568,29 @@ module twh_engine #(
         endcase
     end
 
+    // the control word's step: the waiting command written at the tail
+    // (its channel's visit), the head popped with its result handed over,
+    // the head started, the poll's turn, the flush's count
+    wire          ins = b_v && (b_ch == s2_ch);
+    wire [QW-1:0] c2_hd = s2_c[C_HD +: QW];
+    wire [QW-1:0] c2_tl = s2_c[C_TL +: QW];
+    wire [QW:0]   c2_cn = s2_c[C_CN +: QW+1];
+    reg  [CTW-1:0] cn_w;
+    always @(*) begin
+        cn_w = s2_c;
+        cn_w[C_HD +: QW]   = c2_hd + {{(QW-1){1'b0}}, hand};
+        cn_w[C_TL +: QW]   = c2_tl + {{(QW-1){1'b0}}, ins};
+        cn_w[C_CN +: QW+1] = c2_cn + {{QW{1'b0}}, ins} - {{QW{1'b0}}, hand};
+        cn_w[C_CC +: QW+1] = (start_q && s2_cc) ? s2_ccnt - 1'b1 : s2_ccnt;
+        // (a hand-over needs a waiting result, a start none: never both)
+        if (start_q)   cn_w[C_AC] = 1'b1;
+        else if (hand) cn_w[C_AC] = 1'b0;
+        if (start_q || start_p) cn_w[C_PF] = start_q;
+        cn_w[C_PH +: 3] = wn[2:0];
+    end
+
     // ------------------------------------------------------------ S3
     reg          s3_last;
-    reg          s3_st;         // the visit started its head entry
     reg [31:0]   s3_q;
     reg          s3_ich;
     reg [7:0]    s3_code;
@@ -504,6 +601,9 @@ module twh_engine #(
         s3_v      <= !rst && s2_v;
         s3_ch     <= s2_ch;
         s3_word   <= wn;
+        s3_ctl    <= cn_w;
+        s3_ins    <= ins;
+        s3_tl     <= c2_tl;
         s3_last   <= last;
         // a poll's frame is in its word (SH: code, payload, checksum)
         s3_q      <= w[PL] ? {w[SH +: 8], 8'd0, w[SH+8 +: 8], w[SH+16 +: 8]}
@@ -514,7 +614,6 @@ module twh_engine #(
         s3_data   <= w[U0 +: 16];
         s3_status <= w[RS +: 4];
         s3_tag    <= q_tag;
-        s3_st     <= !rst && s2_v && start_q;
         p_take    <= !rst && s2_v && start_p;
         p_res     <= !rst && s2_v && poll_end;
         p_ch      <= s2_ch;
@@ -566,65 +665,44 @@ module twh_engine #(
         end
     end
 
-    assign cancelling = (ccnt != {(CN*(QW+1)){1'b0}});
+    // a flush's cancels are left: a channel's flag or count, or one on its
+    // way from S1 to the write
+    reg s3_cc;
+    always @(posedge clk) s3_cc <= cn_w[C_CC +: QW+1] != {(QW+1){1'b0}};
+    assign cancelling = (fpend != {CN{1'b0}}) || (cz_m != {CN{1'b0}}) ||
+                        (s2_v && s2_cc) || (s3_v && s3_cc);
 
     // ------------------------------------------------------------ per channel
+    wire s3_full = s3_ctl[C_CN + QW];
+    wire s3_busy = s3_ctl[C_CN +: QW+1] != {(QW+1){1'b0}};
+    wire s3_pend = s3_ctl[C_CN +: QW+1] != {{QW{1'b0}}, s3_ctl[C_AC]};
     genvar n;
     generate
         for (n = 0; n < CN; n = n + 1) begin : g_ch
             if (n < CHANNELS) begin : g_on
-                wire at_s3  = s3_v && (s3_ch == n);
-                wire pop    = at_s3 && s3_res;
-                // (this channel's own full flag, not the port's multiplexer)
-                wire pushed = s_cmd_valid && (s_cmd_ch == n) && !q_full[n];
-                wire [QW:0] cnt_n = q_cnt[n*(QW+1) +: QW+1];
-                wire [QW:0] cc_n  = ccnt[n*(QW+1) +: QW+1];
-                // the step at S2 starts this channel's head entry / its poll
-                wire at_s2  = s2_v && (s2_ch == n);
-                wire strt_q = at_s2 && start_q;
-                wire strt_3 = at_s3 && s3_st;     // ... written with the word
+                wire at_s3 = s3_v && (s3_ch == n);
+                wire at_s1 = s1_v && (s1_ch == n);
+                wire b_n   = b_v && (b_ch == n);     // its command waits for the visit
                 always @(posedge clk) begin
                     if (rst) begin
-                        act[n]                 <= 1'b0;
-                        pref[n]                <= 1'b0;
-                        ccnt[n*(QW+1) +: QW+1] <= {(QW+1){1'b0}};
+                        ph_q[n*3 +: 3] <= `TWH_PH_IDLE;
+                        init[n]        <= 1'b0;
+                        full_m[n]      <= 1'b0;
+                        busy_m[n]      <= 1'b0;
+                        pend_m[n]      <= 1'b0;
+                        cz_m[n]        <= 1'b0;
+                        fpend[n]       <= 1'b0;
                     end else begin
-                        // a pop (S3) and a start (S2) of one channel are
-                        // never in the same clock: one visit at a time
-                        // (with the word: act is its state's)
-                        if (strt_3) act[n] <= 1'b1;
-                        else if (pop) act[n] <= 1'b0;
-                        if (at_s2 && (start_q || start_p)) pref[n] <= start_q;
-                        // a flush cancels what is queued and not started:
-                        // the entries behind a started head (one whose
-                        // start is on its way to the RAM, or decided in this
-                        // very clock, counts as started)
-                        if (cancel)
-                            ccnt[n*(QW+1) +: QW+1] <= cnt_n - {{QW{1'b0}}, act[n] || strt_3 || strt_q};
-                        else if (strt_q && cc_n != {(QW+1){1'b0}})
-                            ccnt[n*(QW+1) +: QW+1] <= cc_n - 1'b1;
-                    end
-                end
-                always @(posedge clk) begin
-                    if (rst) begin
-                        q_head[n*QW +: QW]      <= {QW{1'b0}};
-                        q_tail[n*QW +: QW]      <= {QW{1'b0}};
-                        q_cnt[n*(QW+1) +: QW+1] <= {(QW+1){1'b0}};
-                        ph_q[n*3 +: 3]          <= `TWH_PH_IDLE;
-                        init[n]                 <= 1'b0;
-                    end else begin
-                        if (pop)    q_head[n*QW +: QW] <= q_head[n*QW +: QW] + 1'b1;
-                        if (pushed) q_tail[n*QW +: QW] <= q_tail[n*QW +: QW] + 1'b1;
-                        if (pop && !pushed) begin
-                            q_cnt[n*(QW+1) +: QW+1] <= cnt_n - 1'b1;
-                        end
-                        if (pushed && !pop) begin
-                            q_cnt[n*(QW+1) +: QW+1] <= cnt_n + 1'b1;
-                        end
                         if (at_s3) begin
                             ph_q[n*3 +: 3] <= s3_word[2:0];
-                            init[n]       <= 1'b1;
+                            init[n]        <= 1'b1;
+                            full_m[n]      <= s3_full;
+                            busy_m[n]      <= s3_busy;
+                            pend_m[n]      <= s3_pend;
+                            cz_m[n]        <= s3_cc;
                         end
+                        // (S1 takes the flag, and a flush in its own clock)
+                        fpend[n] <= !at_s1 && (fpend[n] || cancel);
                     end
                 end
                 twh_engine_pin #(.CLK_HZ(CLK_HZ), .GLITCH_NS(GLITCH_NS)) u_pin (
@@ -633,27 +711,21 @@ module twh_engine #(
                     .nx_we(s4_v && (s4_ch == n)), .nx_oe(s4_oe), .nx_on(s4_on),
                     .line_i(line_i[n]), .line_o(line_o[n]), .line_oe(line_oe[n])
                 );
-                assign busy[n] = (cnt_n != {(QW+1){1'b0}});
-                assign pending[n] = (cnt_n != {{QW{1'b0}}, act[n]});
-                assign running[n] = act[n];
-                assign q_full[n]  = cnt_n[QW];
-                assign full[n]    = q_full[n];
+                assign busy[n]    = busy_m[n] || b_n;
+                assign pending[n] = pend_m[n] || b_n;
+                assign full[n]    = full_m[n] || b_v;
                 assign phase[n*3 +: 3] = ph_q[n*3 +: 3];
                 assign fld[n*3 +: 3] = fld_of(ph_q[n*3 +: 3]);
             end else begin : g_off
-                // indices past the last channel (CHANNELS not a power of two)
+                // indices past the last channel (CHANNELS not a power of two):
+                // full, so no command is taken for one
                 always @(posedge clk) begin
-                    q_head[n*QW +: QW]      <= {QW{1'b0}};
-                    q_tail[n*QW +: QW]      <= {QW{1'b0}};
-                    // full: no command is taken
-                    q_cnt[n*(QW+1) +: QW+1] <= {1'b1, {QW{1'b0}}};
-                    ph_q[n*3 +: 3]          <= `TWH_PH_IDLE;
-                    init[n]                 <= 1'b0;
-                    pref[n]                 <= 1'b0;
-                    ccnt[n*(QW+1) +: QW+1]  <= {(QW+1){1'b0}};
+                    init[n]        <= 1'b0;
+                    full_m[n]      <= 1'b1;
+                    cz_m[n]        <= 1'b0;
+                    fpend[n]       <= 1'b0;
                 end
-                assign seen[n]   = 1'b0;
-                assign q_full[n] = q_cnt[n*(QW+1) + QW];
+                assign seen[n] = 1'b0;
             end
         end
     endgenerate
@@ -705,6 +777,10 @@ module twh_engine #(
         end
     end
     wire [W-1:0] f_cur = f_wr ? f_w : W_RESET;     // the channel's state as it stands
+    // ... and its control word
+    reg  [CTW-1:0] f_c;
+    always @(posedge clk) if (s3_v && s3_ch == f_ch) f_c <= s3_ctl;
+    wire [CTW-1:0] f_cc = f_wr ? f_c : CTL_RESET;
     wire [2:0]   f_ph  = f_cur[2:0];
 
     // the field each phase's successor loads (twh_link's fld_next)
@@ -724,13 +800,15 @@ module twh_engine #(
     // the field the tracked channel's read asked for, carried to S2
     reg [2:0] f_s1_fld, f_s2_fld;
     always @(posedge clk) begin
-        f_s1_fld <= fld_of(ph_q[s0_ch*3 +: 3]);
+        f_s1_fld <= fld_of(c0[C_PH +: 3]);
         f_s2_fld <= f_s1_fld;
     end
 
-    wire [QW:0]  f_qcnt  = q_cnt[f_ch*(QW+1) +: QW+1];
-    wire [QW-1:0] f_head = q_head[f_ch*QW +: QW];
-    wire [QW-1:0] f_tail = q_tail[f_ch*QW +: QW];
+    wire [QW:0]   f_qcnt = f_cc[C_CN +: QW+1];
+    wire [QW-1:0] f_head = f_cc[C_HD +: QW];
+    wire [QW-1:0] f_tail = f_cc[C_TL +: QW];
+    wire          f_act  = f_cc[C_AC];
+    wire [QW:0]   f_ccnt = f_cc[C_CC +: QW+1];
 
     always @(*) begin
         if (f_ok && !rst) begin
@@ -758,6 +836,15 @@ module twh_engine #(
             if (s1_v && s1_ch == f_ch && f_wr) assert(st_rd == f_w);
             if (s2_v && s2_ch == f_ch) assert(s2_w == f_cur && s2_last == (f_cur[18:4] == 15'd0));
             assert(init[f_ch] == f_wr);
+            // the control word read is the one the last visit wrote, and
+            // the flags the core reads are its copies
+            if (s0_v && s0_ch == f_ch) assert(c0 == f_cc);
+            if (s1_v && s1_ch == f_ch) assert(s1_c == f_cc);
+            if (s2_v && s2_ch == f_ch) assert(s2_c == f_cc);
+            assert(f_cc[C_PH +: 3] == f_ph);
+            assert(full_m[f_ch] == f_qcnt[QW] && busy_m[f_ch] == (f_qcnt != {(QW+1){1'b0}}) &&
+                   pend_m[f_ch] == (f_qcnt != {{QW{1'b0}}, f_act}) &&
+                   cz_m[f_ch] == (f_ccnt != {(QW+1){1'b0}}));
             // the timing field is the one the phase's successor loads
             assert(ph_q[f_ch*3 +: 3] == f_ph);
             if (s2_v && s2_ch == f_ch) assert(f_s2_fld == f_fld(f_ph));
@@ -766,17 +853,19 @@ module twh_engine #(
             // pop never finds the queue empty: one result per command)
             assert(f_qcnt <= QDEPTH[QW:0]);
             assert(f_qcnt[QW-1:0] == f_tail - f_head);
-            assert(q_full[f_ch] == (f_qcnt == QDEPTH[QW:0]));
+            // a command waiting for its channel's visit has room there
+            if (b_v) assert(b_ch < CHANNELS);
+            if (b_v && b_ch == f_ch) assert(!f_qcnt[QW]);
             // (a result handed over in the turnaround has popped its entry;
             // a poll has none): the head is started exactly while its
             // transaction runs or its result waits, and a flush's count
-            // never exceeds the entries behind it
-            assert(act[f_ch] == (f_cur[19] || (!f_cur[PL] && f_ph != `TWH_PH_IDLE &&
-                                                f_ph != `TWH_PH_TURNAROUND)));
-            if (act[f_ch]) assert(f_qcnt != {(QW+1){1'b0}});
-            assert(ccnt[f_ch*(QW+1) +: QW+1] <= f_qcnt - {{QW{1'b0}}, act[f_ch]} -
-                   {{QW{1'b0}}, s3_v && s3_ch == f_ch && s3_st});
-            if (s3_v && s3_ch == f_ch && s3_st) assert(!act[f_ch] && f_qcnt != {(QW+1){1'b0}});
+            // never exceeds the entries queued and not started
+            assert(f_act == (f_cur[19] || (!f_cur[PL] && f_ph != `TWH_PH_IDLE &&
+                                            f_ph != `TWH_PH_TURNAROUND)));
+            if (f_act) assert(f_qcnt != {(QW+1){1'b0}});
+            assert(f_ccnt <= f_qcnt - {{QW{1'b0}}, f_act});
+            // a flush's cancels left are shown
+            if (fpend[f_ch] || f_ccnt != {(QW+1){1'b0}}) assert(cancelling);
             // a poll runs from its charge to its listen's end
             if (f_cur[PL]) assert(f_ph != `TWH_PH_IDLE && f_ph != `TWH_PH_TURNAROUND &&
                                   !f_cur[19]);

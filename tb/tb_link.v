@@ -143,7 +143,7 @@ module tb_link #(
             // verilator lint_on UNUSEDSIGNAL
         end else begin : g_engine
             wire        scan_unused, res_ch_unused, p_take_unused, p_res_unused, p_ch_unused;
-            wire        pending_unused, running_unused, full_unused, cancelling_unused;
+            wire        pending_unused, full_unused, cancelling_unused;
             wire [15:0] p_data_unused;
             wire [3:0]  p_status_unused;
             wire [11:0] p_count_unused;
@@ -159,14 +159,14 @@ module tb_link #(
                 .m_res_code(m_res_code), .m_res_data(m_res_data),
                 .m_res_status(m_res_status), .m_res_tag(m_res_tag),
                 .line_o(line_o), .line_oe(line_oe), .line_i(line_i),
-                .busy(busy), .pending(pending_unused), .running(running_unused),
+                .busy(busy), .pending(pending_unused),
                 .full(full_unused), .cancelling(cancelling_unused), .phase(phase), .fld(nx_fld),
                 .p_take(p_take_unused), .p_res(p_res_unused), .p_ch(p_ch_unused),
                 .p_data(p_data_unused), .p_status(p_status_unused), .p_count(p_count_unused)
             );
             // verilator lint_off UNUSEDSIGNAL
             wire unused = &{1'b0, dur_we, dur_ch[4:1], tick_nx, scan_unused, res_ch_unused,
-                            pending_unused, running_unused, full_unused, cancelling_unused,
+                            pending_unused, full_unused, cancelling_unused,
                             p_take_unused, p_res_unused, p_ch_unused, p_data_unused,
                             p_status_unused, p_count_unused};
             // verilator lint_on UNUSEDSIGNAL
