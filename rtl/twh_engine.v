@@ -920,12 +920,33 @@ module twh_engine #(
         end
     end
 
+    // a flush since the tracked channel's last visit took its flag (S1)
+    // counts, at the next visit, every entry queued and not started: the
+    // count is the queue's less its started head
+    reg f_fl, f_fl2;
+    always @(posedge clk) begin
+        if (rst)                           f_fl <= 1'b0;
+        else if (s1_v && s1_ch == f_ch)    f_fl <= 1'b0;
+        else if (cancel)                   f_fl <= 1'b1;
+        f_fl2 <= f_fl || cancel;
+    end
+    always @(*) begin
+        if (f_ok && !rst) begin
+            assert(fpend[f_ch] == f_fl);
+            if (s2_v && s2_ch == f_ch && f_fl2)
+                assert(s2_ccnt == f_qcnt - {{QW{1'b0}}, f_act});
+        end
+    end
+
     // the result register holds its result until it is taken
     reg f_past = 1'b0;
     always @(posedge clk) f_past <= f_ok && !rst;
     always @(posedge clk) begin
         if (f_past && f_ok && !rst && $past(m_res_valid && !m_res_ready))
             assert(m_res_valid && $stable({m_res_ch, m_res_code, m_res_data, m_res_status, m_res_tag}));
+        // a flush marks a command still waiting for its visit CANCELLED
+        if (f_past && f_ok && !rst && $past(cancel && b_v && !rst) && b_v)
+            assert(b_e[1:0] == SK_CANCELLED);
     end
 `endif
 endmodule
