@@ -43,14 +43,14 @@ module twh_core_engine #(
     input  wire                   pc_wr,
     input  wire                   rd_ctrl,
     input  wire                   rd_res,
+    input  wire                   rd_state,
     input  wire [4:0]             reg_ch,
     output wire [31:0]            rd_data,
-    output wire [CHANNELS*3-1:0]  nx_fld,
+    output wire [CHANNELS*3-1:0]  nx_ph,
     input  wire                   dur_v,
     input  wire [4:0]             dur_ch,
     input  wire [15:0]            dur,
     input  wire [2:0]             dur_fld,
-    output wire [CHANNELS*32-1:0] state,
     output wire [CHANNELS-1:0]    poll_sample,
     output wire                   poll_error,
     input  wire                   cmd_valid,
@@ -78,7 +78,6 @@ module twh_core_engine #(
     (* anyseq *) reg [CHANNELS-1:0]    f_poll;     // a poll on the line (STATUS.BUSY)
     (* anyseq *) reg [31:0]            f_rd;
     (* anyseq *) reg [CHANNELS*3-1:0]  f_nx;
-    (* anyseq *) reg [CHANNELS*32-1:0] f_state;
     (* anyseq *) reg [CHANNELS-1:0]    f_sample, f_line_o, f_line_oe;
     (* anyseq *) reg                   f_perr, f_canc;
 
@@ -162,13 +161,12 @@ module twh_core_engine #(
     assign res_valid   = rv;
     assign res         = {r_tag, r_ch, r_status, r_code, r_data};
     assign cancelling  = f_canc;
-    // a POLL_CTRL / POLL_RESULT read is answered in the clock after its
-    // select, with 0 otherwise (twh_polls' timing: the core ORs it in)
+    // a POLL_CTRL / POLL_RESULT / STATE read is answered in the clock after
+    // its select, with 0 otherwise (twh_polls' timing: the core ORs it in)
     reg rd_q;
-    always @(posedge clk) rd_q <= !rst && (rd_ctrl || rd_res);
+    always @(posedge clk) rd_q <= !rst && (rd_ctrl || rd_res || rd_state);
     assign rd_data     = rd_q ? f_rd : 32'd0;
-    assign nx_fld      = f_nx;
-    assign state       = f_state;
+    assign nx_ph       = f_nx;
     assign poll_sample = f_sample;
     assign poll_error  = f_perr;
     assign line_o      = f_line_o;

@@ -212,9 +212,9 @@ module twh_core #(
     // register bit; TIMING0-2 of every channel come from twh_timing (q_r_t)
     reg [CHANNELS*3-1:0] q_r_cr;
     reg        q_r_t;
-    // ENGINE = 1: POLL_CTRL / POLL_RESULT of an existing channel read, from
+    // ENGINE = 1: POLL_CTRL / POLL_RESULT / STATE of an existing channel read, from
     // twh_polls' memories (ENGINE = 0 reads them through q_r_cr)
-    reg        q_r_pc, q_r_pr;
+    reg        q_r_pc, q_r_pr, q_r_st;
     reg        q_cmp_nz;         // ... not all zero: a field lies outside its window
     reg        q_win_p;          // i_win_p of the request
     // The REFUSED verdict's parts, taken on the way in so that the error
@@ -263,7 +263,7 @@ module twh_core #(
     always @(posedge clk) if (i_load) begin
         if (rst || !reg_req) begin
             q_req <= 1'b0; q_wr <= 1'b0; q_rd <= 1'b0;
-            q_wr_t <= 1'b0; q_r_t <= 1'b0; q_ref_p <= 1'b0; q_r_pc <= 1'b0; q_r_pr <= 1'b0;
+            q_wr_t <= 1'b0; q_r_t <= 1'b0; q_ref_p <= 1'b0; q_r_pc <= 1'b0; q_r_pr <= 1'b0; q_r_st <= 1'b0;
             q_ch <= {CHANNELS{1'b0}}; q_r_cr <= {(CHANNELS*3){1'b0}};
             q_r_id <= 1'b0; q_r_version <= 1'b0; q_r_params <= 1'b0; q_r_ctrl <= 1'b0;
             q_r_status <= 1'b0; q_r_levels <= 1'b0; q_r_errors <= 1'b0; q_r_irq_en <= 1'b0;
@@ -280,6 +280,7 @@ module twh_core #(
             q_r_t      <= i_rd && i_ch_ok && reg_addr[4:2] <= 3'd2;
             q_r_pc     <= i_rd && i_ch_ok && reg_addr[4:2] == 3'd3 && ENGINE_N != 0;
             q_r_pr     <= i_rd && i_ch_ok && reg_addr[4:2] == 3'd4 && ENGINE_N != 0;
+            q_r_st     <= i_rd && i_ch_ok && reg_addr[4:2] == 3'd5 && ENGINE_N != 0;
             q_ref_p    <= i_wr && i_ch_ok && reg_addr[4:2] == 3'd3 && !i_win_p;
             for (i_n = 0; i_n < CHANNELS; i_n = i_n + 1) begin
                 q_ch[i_n] <= i_wr && (i_blk[4:0] == i_n[4:0]);
@@ -289,7 +290,7 @@ module twh_core #(
                                      reg_addr[4:2] == 3'd3;
                 q_r_cr[i_n*3 + 1] <= i_rd && i_ch_ok && i_blk[4:0] == i_n[4:0] && ENGINE_N == 0 &&
                                      reg_addr[4:2] == 3'd4;
-                q_r_cr[i_n*3 + 2] <= i_rd && i_ch_ok && i_blk[4:0] == i_n[4:0] &&
+                q_r_cr[i_n*3 + 2] <= i_rd && i_ch_ok && i_blk[4:0] == i_n[4:0] && ENGINE_N == 0 &&
                                      reg_addr[4:2] == 3'd5;
             end
             q_r_id         <= i_grd && i_g == R_ID;
@@ -445,7 +446,7 @@ module twh_core #(
     wire        e_res_valid;
     wire [37:0] e_res;
     wire        e_cancelling;     // ENGINE 1: a flush's cancels are left in the queues
-    wire [31:0] p_rdata;          // ENGINE 1: the answer of a POLL_CTRL / POLL_RESULT read
+    wire [31:0] p_rdata;          // ENGINE 1: the answer of a POLL_CTRL / POLL_RESULT / STATE read
     wire res_push = (ENGINE_N != 0 ? e_res_valid : scan_v) && !res_full;
     wire [3:0] push_status = ENGINE_N != 0 ? e_res[27:24] : c_res_status[scan*4 +: 4];
     wire pop_req = q_pop;
@@ -474,7 +475,7 @@ module twh_core #(
     // verilator lint_off UNUSEDSIGNAL
     wire [CHANNELS-1:0] c_busy;     // the engines' busy: the proofs' (STATUS reads c_sbusy)
     // verilator lint_on UNUSEDSIGNAL
-    wire [CHANNELS*3-1:0] c_nx_fld;
+    wire [CHANNELS*3-1:0] c_nx_fld;   // per channel: the field it needs next (ENGINE 1: its phase)
 
     // A channel register write starts from the request stage: its value's
     // window flags were taken on the way in, for the register addressed (the
@@ -496,7 +497,7 @@ module twh_core #(
     // comes out of the block RAM's register in the answer's clock
     wire [1:0]  q_treg = q_addr[3:2];            // TIMING0-2 of a channel block
     wire        t_wr  = q_wr_t && t_take;        // a timing write taken
-    twh_timing #(.CHANNELS(CH_N), .PROG(PROG_TIMING)) u_timing (
+    twh_timing #(.CHANNELS(CH_N), .PROG(PROG_TIMING), .NX_PHASE(ENGINE_N != 0 ? 1 : 0)) u_timing (
         .clk(clk), .rst(rst), .lab(lab),
         .wr(t_wr), .wr_ch(q_blk), .wr_reg(q_treg),
         .wr_data(q_wdata), .wr_cmp(q_cmp),
@@ -513,9 +514,9 @@ module twh_core #(
                 .clk(clk), .rst(rst), .ms_tick(ms_tick), .tick(us_tick), .fall(us_fall),
                 .enable(enable), .idle_charge(idle_charge[CH_N-1:0]),
                 .wdata(q_wdata), .pc_wr(q_wp && wr && q_win_p), .rd_ctrl(q_r_pc),
-                .rd_res(q_r_pr), .reg_ch(q_blk), .rd_data(p_rdata),
-                .nx_fld(c_nx_fld), .dur_v(t_dur_v), .dur_ch(t_dur_ch), .dur(t_dur),
-                .dur_fld(t_dur_fld), .state(c_st), .poll_sample(c_sample), .poll_error(c_poll_err[0]),
+                .rd_res(q_r_pr), .rd_state(q_r_st), .reg_ch(q_blk), .rd_data(p_rdata),
+                .nx_ph(c_nx_fld), .dur_v(t_dur_v), .dur_ch(t_dur_ch), .dur(t_dur),
+                .dur_fld(t_dur_fld), .poll_sample(c_sample), .poll_error(c_poll_err[0]),
                 .cmd_valid(dispatch), .cmd_ch(disp_ch), .cmd_code(h_cmd),
                 .cmd_payload(h_payload), .cmd_tag(h_tag), .cmd_skip(h_skip),
                 .cancel(flush_wr), .full(slot_full), .cancelling(e_cancelling),
@@ -530,6 +531,7 @@ module twh_core #(
             assign c_res_tag = {(CHANNELS*5){1'b0}};
             assign c_busy = c_sbusy;
             assign c_pc = {(CHANNELS*32){1'b0}};      // (read from twh_polls: p_rdata)
+            assign c_st = {(CHANNELS*32){1'b0}};      // (read from twh_core_engine: p_rdata)
             assign c_pr = {(CHANNELS*32){1'b0}};
             if (CHANNELS > 1) begin : g_err
                 assign c_poll_err[CHANNELS-1:1] = {(CHANNELS-1){1'b0}};
@@ -548,7 +550,7 @@ module twh_core #(
             assign p_rdata = 32'd0;
             // (the channels' own registers answer POLL_CTRL / POLL_RESULT)
             // verilator lint_off UNUSEDSIGNAL
-            wire unused_r_p = q_r_pc | q_r_pr | ^t_dur_ch | t_dur_v;
+            wire unused_r_p = q_r_pc | q_r_pr | q_r_st | ^t_dur_ch | t_dur_v;
             // verilator lint_on UNUSEDSIGNAL
         for (n = 0; n < CHANNELS; n = n + 1) begin : g_ch
             wire sel = q_ch[n];
@@ -815,7 +817,7 @@ module twh_core #(
     // request in the stage every strobe and select is 0, and with no
     // answer the read word is 0.
     always @(*) if (f_rs && !q_req) begin
-        assert({q_wr, q_rd, q_wr_t, q_r_t, q_ref_p, q_ch, q_r_cr, q_r_pc, q_r_pr} == 0);
+        assert({q_wr, q_rd, q_wr_t, q_r_t, q_ref_p, q_ch, q_r_cr, q_r_pc, q_r_pr, q_r_st} == 0);
         assert({q_r_id, q_r_version, q_r_params, q_r_ctrl, q_r_status, q_r_levels,
                 q_r_errors, q_r_irq_en, q_r_irq_status, q_r_poll_ready, q_r_res_info,
                 q_r_res_pop, q_r_idle, q_r_busy} == 0);
@@ -949,7 +951,8 @@ module twh_core #(
     reg f_trd_q, f_prd_q;
     always @(posedge clk) begin
         f_trd_q <= rd && mapped && is_ch && ch_reg <= 3'd2;
-        f_prd_q <= rd && mapped && is_ch && (ch_reg == 3'd3 || ch_reg == 3'd4) && ENGINE_N != 0;
+        f_prd_q <= rd && mapped && is_ch && (ch_reg == 3'd3 || ch_reg == 3'd4 || ch_reg == 3'd5) &&
+                   ENGINE_N != 0;
     end
     always @(*) if (f_chk_rd) assert(reg_rdata == (f_rdata_q | ({32{f_trd_q}} & t_rdata) |
                                                    ({32{f_prd_q}} & p_rdata)));
@@ -957,7 +960,8 @@ module twh_core #(
     always @(*) if (f_rs && f_h && ENGINE_N != 0)
         assert(q_r_pc == (rd && ch_exists && ch_reg == 3'd3) &&
                q_r_pr == (rd && ch_exists && ch_reg == 3'd4) &&
-               (!(q_r_pc || q_r_pr) || q_blk == ch_sel));
+               q_r_st == (rd && ch_exists && ch_reg == 3'd5) &&
+               (!(q_r_pc || q_r_pr || q_r_st) || q_blk == ch_sel));
     // twh_timing is handed the word the request names, for a read or a write
     always @(*) if (f_rs && f_h && ch_exists && ch_reg <= 3'd2)
         assert(q_blk == ch_sel && q_treg == ch_reg[1:0]);

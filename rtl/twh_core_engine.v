@@ -8,14 +8,16 @@
 //   channel's queue when that queue is not full (`full`), so a command
 //   waits behind another channel's only when four are queued there.
 // - Phase lengths: twh_timing fetches, for every channel, the field its next
-//   phase loads (the engine's `fld`) and clamps it; this module writes each
+//   phase loads (from the engine's `phase`: NX_PHASE) and clamps it; this module writes each
 //   length into the engine's timing RAM. A phase lasts at least 900 us
 //   (outside the lab unlock), and its successor's field is fetched within
 //   CHANNELS + 6 clocks of its start, long before its last period reads it.
 // - STATE: PHASE the engine's phase, BUSY a transaction under way (phases
-//   charge to turnaround), SLOT_FULL a queued command not started.
-// - BUSY (the register): a command queued or running, a poll running, or a result in
-//   the engine's result register.
+//   charge to turnaround), SLOT_FULL a queued command not started; read
+//   with POLL_CTRL and POLL_RESULT on rd_data, a clock after the request.
+// - BUSY (the register): a command queued or running, a transaction on the
+//   line (the engine's `busy`, a poll's too), or a result in the engine's
+//   result register.
 `default_nettype none
 `include "twh_defs.vh"
 module twh_core_engine #(
@@ -37,16 +39,16 @@ module twh_core_engine #(
     input  wire                   pc_wr,
     input  wire                   rd_ctrl,
     input  wire                   rd_res,
+    input  wire                   rd_state,     // STATE of reg_ch
     input  wire [4:0]             reg_ch,
     output wire [31:0]            rd_data,
     // phase lengths from twh_timing
-    output wire [CHANNELS*3-1:0]  nx_fld,
+    output wire [CHANNELS*3-1:0]  nx_ph,        // each channel's phase (twh_timing's NX_PHASE)
     input  wire                   dur_v,
     input  wire [4:0]             dur_ch,
     input  wire [15:0]            dur,
     input  wire [2:0]             dur_fld,
     // channel registers
-    output wire [CHANNELS*32-1:0] state,
     output wire [CHANNELS-1:0]    poll_sample,
     output wire                   poll_error,
     // commands from the dispatcher
@@ -84,6 +86,9 @@ module twh_core_engine #(
     wire [11:0]            p_count;
     wire [CHANNELS-1:0]    e_busy, e_pending;
     wire [CHANNELS*3-1:0]  e_phase;
+    // verilator lint_off UNUSEDSIGNAL
+    wire [CHANNELS*3-1:0]  e_fld;         // (twh_timing decodes it from the phase)
+    // verilator lint_on UNUSEDSIGNAL
     wire [CW-1:0]          r_ch;
     wire [7:0]             r_code;
     wire [15:0]            r_data;
@@ -102,14 +107,14 @@ module twh_core_engine #(
         .m_res_code(r_code), .m_res_data(r_data), .m_res_status(r_status), .m_res_tag(r_tag),
         .line_o(line_o), .line_oe(line_oe), .line_i(line_i),
         .busy(e_busy), .pending(e_pending), .full(full), .cancelling(cancelling),
-        .phase(e_phase), .fld(nx_fld),
+        .phase(e_phase), .fld(e_fld),
         .p_take(p_take), .p_res(p_res), .p_ch(p_ch), .p_data(p_data), .p_status(p_status),
         .p_count(p_count)
     );
     twh_polls #(.CHANNELS(CHANNELS), .POLLING(POLLING), .RAM_BLOCK(RAM_BLOCK)) u_polls (
         .clk(clk), .rst(rst), .ms_tick(ms_tick),
         .wr(pc_wr), .wr_ch(reg_ch[CW-1:0]), .wr_data(wdata),
-        .rd_ctrl(rd_ctrl), .rd_res(rd_res), .rd_ch(reg_ch[CW-1:0]), .rd_data(rd_data),
+        .rd_ctrl(rd_ctrl), .rd_res(rd_res), .rd_ch(reg_ch[CW-1:0]), .rd_data(p_rdata),
         .scan_ch(scan_ch), .poll_cmd(p_cmd), .poll_req(p_due),
         .p_take(p_take), .p_res(p_res), .p_ch(p_ch), .p_data(p_data), .p_status(p_status),
         .p_count(p_count), .sample(poll_sample), .error(poll_error)
@@ -126,13 +131,27 @@ module twh_core_engine #(
     wire [4:0] unused_ch = cmd_ch ^ reg_ch ^ dur_ch;
     // verilator lint_on UNUSEDSIGNAL
 
+    // STATE of the channel read, a clock after the request stage (as
+    // twh_polls answers POLL_CTRL and POLL_RESULT): one multiplexer over
+    // the channels rather than a select flip-flop and an AND-OR term each
+    localparam integer CN = 1 << CW;
+    assign nx_ph = e_phase;
+    wire [CN*4-1:0] st_w;       // {pending, phase} a channel
+    reg  [3:0]      st_q;
+    wire [31:0]     p_rdata;
+    always @(posedge clk) st_q <= (rst || !rd_state) ? 4'd0 : st_w[reg_ch[CW-1:0]*4 +: 4];
+    // STATE: SLOT_FULL, BUSY (a transaction: not idle), PHASE
+    assign rd_data = p_rdata | {27'd0, st_q[3], st_q[2:0] != `TWH_PH_IDLE, st_q[2:0]};
+
     genvar n;
     generate
+        if (CHANNELS < CN) begin : g_pad
+            assign st_w[CN*4-1:CHANNELS*4] = {((CN-CHANNELS)*4){1'b0}};
+        end
         for (n = 0; n < CHANNELS; n = n + 1) begin : g_ch
-            wire [2:0] ph = e_phase[n*3 +: 3];
-            wire on_line = (ph != `TWH_PH_IDLE);
-            assign state[n*32 +: 32] = {27'd0, e_pending[n], on_line, ph};
-            assign status_busy[n] = e_busy[n] || on_line || (res_valid && r_ch == n);
+            assign st_w[n*4 +: 4] = {e_pending[n], e_phase[n*3 +: 3]};
+            // (the engine's busy counts a transaction on the line, a poll's too)
+            assign status_busy[n] = e_busy[n] || (res_valid && r_ch == n);
         end
     endgenerate
 endmodule

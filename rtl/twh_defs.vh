@@ -50,6 +50,17 @@
 // The time-shared engine's clock floor (docs/engine.md): P = CLK_HZ / 1 MHz
 // clocks a period, FRAC the Hz left over. twh_engine checks it, and
 // twh_carrier for the core (so that a bad clock names one error).
+// The timing field (twh_timing's codes: 1 charge .. 6 turnaround) that the
+// phase after phase `p` loads, for the time-shared engine, which keeps a
+// channel's phase and not its field (twh_engine reads its timing RAM with
+// it; twh_timing decodes it after its channel multiplexer). The command
+// phase's length is fixed, so preamble names execute; the idle after a
+// turnaround is one tick, so turnaround names charge.
+`define TWH_FLD_OF(p) \
+    (((p) == `TWH_PH_CHARGE) ? 3'd2 : ((p) == `TWH_PH_SYNC) ? 3'd3 : \
+     ((p) == `TWH_PH_PREAMBLE || (p) == `TWH_PH_COMMAND) ? 3'd4 : \
+     ((p) == `TWH_PH_EXECUTE) ? 3'd5 : ((p) == `TWH_PH_LISTEN) ? 3'd6 : 3'd1)
+
 `define TWH_ENGINE_FLOOR_OK(p, frac, ch) \
     ((p) >= 4 && (p) >= (ch) && (ch) + 4 < 2 * (p) && ((frac) == 0 || (p) >= (ch) + 5))
 

@@ -111,7 +111,8 @@ module twh_engine #(
     output wire [CHANNELS-1:0] line_o,
     output wire [CHANNELS-1:0] line_oe,
     input  wire [CHANNELS-1:0] line_i,
-    output wire [CHANNELS-1:0] busy,           // a command queued or running
+    output wire [CHANNELS-1:0] busy,           // a command queued or running, or a
+                                               // transaction on the line (a poll's too)
     output wire [CHANNELS-1:0] pending,        // a queued command not started yet
     output wire [CHANNELS-1:0] full,           // its queue is full
     output wire                cancelling,     // a flush's cancels are still to come
@@ -197,7 +198,7 @@ module twh_engine #(
     reg  [CHANNELS*3-1:0] ph_q;          // each channel's phase, as its last visit wrote it
     reg  [CN-1:0]        init;           // the words were written since reset
     reg  [CN-1:0]        full_m;         // its queue is full (count QDEPTH)
-    reg  [CHANNELS-1:0]  busy_m;        // its queue is not empty
+    reg  [CHANNELS-1:0]  busy_m;        // its queue is not empty, or it is not idle
     reg  [CHANNELS-1:0]  pend_m;        // an entry queued and not started
     reg  [CN-1:0]        cz_m;           // a flush's count left
     reg  [CN-1:0]        fpend;          // a flush came since its last visit's S1: its
@@ -222,21 +223,10 @@ module twh_engine #(
     end
     assign scan_ch = s0_ch;
 
-    // The timing field the phase after `p` loads (twh_timing's codes: 1
-    // charge .. 6 turnaround). The command phase's length is fixed, so
-    // preamble names execute; the idle after a turnaround is one tick, so
-    // turnaround names charge.
+    // the timing field the phase after `p` loads (twh_defs.vh)
     function [2:0] fld_of;
         input [2:0] p;
-        case (p)
-            `TWH_PH_CHARGE:   fld_of = 3'd2;
-            `TWH_PH_SYNC:     fld_of = 3'd3;
-            `TWH_PH_PREAMBLE: fld_of = 3'd4;
-            `TWH_PH_COMMAND:  fld_of = 3'd4;
-            `TWH_PH_EXECUTE:  fld_of = 3'd5;
-            `TWH_PH_LISTEN:   fld_of = 3'd6;
-            default:          fld_of = 3'd1;
-        endcase
+        fld_of = `TWH_FLD_OF(p);
     endfunction
 
     // ------------------------------------------------------------ RAMs
@@ -674,7 +664,7 @@ module twh_engine #(
 
     // ------------------------------------------------------------ per channel
     wire s3_full = s3_ctl[C_CN + QW];
-    wire s3_busy = s3_ctl[C_CN +: QW+1] != {(QW+1){1'b0}};
+    wire s3_busy = (s3_ctl[C_CN +: QW+1] != {(QW+1){1'b0}}) || (s3_word[2:0] != `TWH_PH_IDLE);
     wire s3_pend = s3_ctl[C_CN +: QW+1] != {{QW{1'b0}}, s3_ctl[C_AC]};
     genvar n;
     generate
@@ -701,8 +691,12 @@ module twh_engine #(
                             pend_m[n]      <= s3_pend;
                             cz_m[n]        <= s3_cc;
                         end
-                        // (S1 takes the flag, and a flush in its own clock)
-                        fpend[n] <= !at_s1 && (fpend[n] || cancel);
+                        // (S1 takes the flag, and a flush in its own clock;
+                        // a channel with nothing queued and not started, and
+                        // no command waiting for its visit, has nothing
+                        // to cancel: no flag, so FLUSHING shows only
+                        // cancels to come)
+                        fpend[n] <= !at_s1 && (fpend[n] || (cancel && (pend_m[n] || b_n)));
                     end
                 end
                 twh_engine_pin #(.CLK_HZ(CLK_HZ), .GLITCH_NS(GLITCH_NS)) u_pin (
@@ -842,7 +836,8 @@ module twh_engine #(
             if (s1_v && s1_ch == f_ch) assert(s1_c == f_cc);
             if (s2_v && s2_ch == f_ch) assert(s2_c == f_cc);
             assert(f_cc[C_PH +: 3] == f_ph);
-            assert(full_m[f_ch] == f_qcnt[QW] && busy_m[f_ch] == (f_qcnt != {(QW+1){1'b0}}) &&
+            assert(full_m[f_ch] == f_qcnt[QW] &&
+                   busy_m[f_ch] == (f_qcnt != {(QW+1){1'b0}} || f_ph != `TWH_PH_IDLE) &&
                    pend_m[f_ch] == (f_qcnt != {{QW{1'b0}}, f_act}) &&
                    cz_m[f_ch] == (f_ccnt != {(QW+1){1'b0}}));
             // the timing field is the one the phase's successor loads
@@ -932,7 +927,7 @@ module twh_engine #(
     end
     always @(*) begin
         if (f_ok && !rst) begin
-            assert(fpend[f_ch] == f_fl);
+            if (fpend[f_ch]) assert(f_fl);
             if (s2_v && s2_ch == f_ch && f_fl2)
                 assert(s2_ccnt == f_qcnt - {{QW{1'b0}}, f_act});
         end

@@ -44,10 +44,24 @@ module twh_engine_pin #(
     wire line_s;
     twh_sync2 u_sync (.clk(clk), .rst(rst), .d(line_i), .q(line_s));
 
+    // A high counts once it has lasted GL samples: line_s now and the GL-1
+    // before it. Up to five samples (GLITCH_NS at up to 50-60 MHz) they are
+    // a shift register ANDed, one LUT; above, a saturating count is the
+    // fewer flip-flops.
     wire hi_ok;
     generate
         if (GL == 1) begin : g_nofilter
             assign hi_ok = line_s;
+        end else if (GL <= 5) begin : g_shift
+            reg  [GL-2:0] hs;   // the GL-1 samples before this one, newest in [0]
+            // verilator lint_off UNUSEDSIGNAL
+            wire [GL-1:0] hs_n = {hs, line_s};      // (its top bit falls out)
+            // verilator lint_on UNUSEDSIGNAL
+            always @(posedge clk) begin
+                if (rst) hs <= {(GL-1){1'b0}};
+                else     hs <= hs_n[GL-2:0];
+            end
+            assign hi_ok = line_s && (&hs);
         end else begin : g_filter
             reg [GW-1:0] hc;    // consecutive high samples, saturating at GL
             always @(posedge clk) begin

@@ -106,12 +106,20 @@ module twh_polls #(
     reg         q_reload;
     assign poll_cmd = cm_rd;
 
-    // the walker's step for w_ch, from the words read a clock ago, registered
-    // for the commit a clock later (off the RAM outputs' path)
-    assign      pc_w   = pc_wr[w_ch] ? pc_rd : CTRL_DEF;
+    // the walker's step for w_ch, from the words read a clock ago and the
+    // channel's flags taken with them (a write to the channel in between
+    // makes the walker read again: w_dirty), registered for the commit a
+    // clock later (off the RAM outputs' path; the flags' multiplexer over
+    // the channels is off it too)
+    reg         rs_q, pw_q;
+    always @(posedge clk) if (w_read) begin
+        rs_q <= restart[w_ch];
+        pw_q <= pc_wr[w_ch];
+    end
+    assign      pc_w   = pw_q ? pc_rd : CTRL_DEF;
     wire        p_en   = pc_w[31];
     wire [14:0] p_iv   = pc_w[30:16];
-    wire        rs     = restart[w_ch];
+    wire        rs     = rs_q;
     wire [14:0] t_now  = rs ? 15'd1 : tm_rd[14:0];
     wire        l_now  = rs || tm_rd[15];
     wire        reload = p_en && l_now;
@@ -166,9 +174,15 @@ module twh_polls #(
     // pending) the command and, a clock later, due
     assign tm_we = commit && !rst && POLLING != 0;
     assign cm_we = tm_we && q_reload && !due[w_ch];
+    // a commit's clear of its channel's restart flag, a clock later (so the
+    // bus's write compare in front of the commit reaches one flip-flop, not
+    // every channel's flag); the walker reads that flag again no sooner than
+    // two clocks after
+    reg          clr_rs;
     always @(posedge clk) begin
         set_due <= cm_we;
         set_ch  <= w_ch;
+        clr_rs  <= tm_we;
     end
 
     genvar n;
@@ -185,7 +199,7 @@ module twh_polls #(
                     if (wr_n) pc_wr[n] <= 1'b1;
                     if (p_res && p_ch == n) pr_wr[n] <= 1'b1;
                     if (wr_n && !wr_data[31])            restart[n] <= 1'b1;
-                    else if (commit && w_ch == n)        restart[n] <= 1'b0;
+                    else if (clr_rs && set_ch == n)      restart[n] <= 1'b0;
                     if ((wr_n && !wr_data[31]) || (p_take && p_ch == n)) due[n] <= 1'b0;
                     else if (set_due && set_ch == n)                      due[n] <= 1'b1;
                 end
@@ -255,7 +269,8 @@ module twh_polls #(
             if (pc_wr[f_n] && g_mem.pc_mem[f_n][31]) assert(f_ro(g_mem.pc_mem[f_n][7:0]));
             // the walker's word is the memory's, unless a write met its read;
             // the command its step took is read-only when it falls due
-            if (w_on && w_s == 2'd1 && !w_dirty) assert(pc_rd == g_mem.pc_mem[w_ch]);
+            if (w_on && w_s == 2'd1 && !w_dirty)
+                assert(pc_rd == g_mem.pc_mem[w_ch] && rs_q == restart[w_ch] && pw_q == pc_wr[w_ch]);
             if (w_on && w_s == 2'd2 && !w_dirty && q_reload && w_ch == f_n) assert(f_ro(q_cmd[7:0]));
             if (w_on) assert(w_s != 2'd3);
             if (w_on) assert(w_ch < CHANNELS);

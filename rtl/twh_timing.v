@@ -35,7 +35,11 @@ module twh_timing #(
     // 0: the core's PROG_TIMING = 0 (never written): every length is its
     // default, handed over straight from the field named, with no memory
     // and no pipeline
-    parameter integer PROG     = 1
+    parameter integer PROG     = 1,
+    // 1: nx_fld carries each channel's phase (the time-shared engine's),
+    // and the field its successor loads is decoded after the fetch's
+    // channel multiplexer (one decode rather than one a channel)
+    parameter integer NX_PHASE = 0
 ) (
     input  wire                  clk,
     input  wire                  rst,
@@ -54,6 +58,7 @@ module twh_timing #(
     output wire [31:0]           rd_data,    // one clock after rd
     // engines
     input  wire [CHANNELS*3-1:0] nx_fld,     // per channel: field 1-6 it needs next
+                                             // (NX_PHASE: its phase)
     output reg  [CHANNELS-1:0]   dur_we,
     output reg                   dur_v,      // a length is handed over (|dur_we, kept
                                              // apart: the time-shared engine reads only
@@ -130,7 +135,8 @@ module twh_timing #(
     localparam integer LAST_I = CHANNELS - 1;
     localparam [4:0]   LAST_CH = LAST_I[4:0];
     reg  [4:0] f_ch;
-    wire [2:0] f_fld = nx_fld[f_ch*3 +: 3];
+    wire [2:0] f_nx  = nx_fld[f_ch*3 +: 3];
+    wire [2:0] f_fld = (NX_PHASE != 0) ? `TWH_FLD_OF(f_nx) : f_nx;
     // fields 1-2 are TIMING0's, 3-4 TIMING1's, 5-6 TIMING2's
     wire [1:0] f_reg = (f_fld <= 3'd2) ? 2'd0 : (f_fld <= 3'd4) ? 2'd1 : 2'd2;
     // The read address: above one channel a register of the field named
@@ -295,8 +301,9 @@ module twh_timing #(
         // a bus read names an existing channel's TIMING0-2, and a request
         // is a read or a write
         if (rd) assume(!wr && rd_reg <= 2'd2 && rd_ch < CHANNELS);
+        // (a phase, NX_PHASE, is any of the eight)
         for (f_c = 0; f_c < CHANNELS; f_c = f_c + 1)
-            assume(nx_fld[f_c*3 +: 3] >= 3'd1 && nx_fld[f_c*3 +: 3] <= 3'd6);
+            if (NX_PHASE == 0) assume(nx_fld[f_c*3 +: 3] >= 3'd1 && nx_fld[f_c*3 +: 3] <= 3'd6);
     end
 
     // the word followed, and what it must hold: f_w, written since the

@@ -131,14 +131,32 @@ module tb_core #(
     // each channel's phase and the FIFO levels, read out of the core by
     // hierarchical name (assigned in g_wb / g_axil below), and a byte
     // monitor per line that shows what travelled on it.
-    wire [8*32-1:0] ch_state;              // twh_channel `state`: {.., slot_full, busy, phase}
+    // each channel's phase: ENGINE = 1, the engine's `phase` (the core hands
+    // it to twh_timing as c_nx_fld); ENGINE = 0, twh_channel's STATE word
+    wire [8*3-1:0] ch_phase;
+    // (a STATE word a channel with its phase in [2:0], from either source)
+    function [CHANNELS*32-1:0] st_view;
+        input [CHANNELS*32-1:0] c_st;
+        input [CHANNELS*3-1:0]  c_ph;
+        integer k;
+        begin
+            st_view = c_st;
+            if (ENGINE != 0)
+                for (k = 0; k < CHANNELS; k = k + 1) st_view[k*32 +: 3] = c_ph[k*3 +: 3];
+        end
+    endfunction
+    wire [CHANNELS*32-1:0] ch_state;
     wire [15:0] cmd_level, res_level;
-    wire [2:0]  phase_0 = ch_state[2:0];
-    wire [2:0]  phase_1 = ch_state[34:32];
-    wire [2:0]  phase_2 = ch_state[66:64];
+    wire [2:0]  phase_0 = ch_phase[2:0];
+    wire [2:0]  phase_1 = ch_phase[5:3];
+    wire [2:0]  phase_2 = ch_phase[8:6];
+    genvar pn;
     generate
-        if (CHANNELS < 8) begin : g_state_pad
-            assign ch_state[8*32-1:CHANNELS*32] = {(8-CHANNELS)*32{1'b0}};
+        if (CHANNELS < 8) begin : g_phase_pad
+            assign ch_phase[8*3-1:CHANNELS*3] = {(8-CHANNELS)*3{1'b0}};
+        end
+        for (pn = 0; pn < CHANNELS; pn = pn + 1) begin : g_phase
+            assign ch_phase[pn*3 +: 3] = ch_state[pn*32 +: 3];
         end
     endgenerate
 
@@ -189,11 +207,11 @@ module tb_core #(
                 .irq(irq), .line_o(lo), .line_oe(loe), .line_i(li)
             );
 `ifdef TWH_NETLIST
-            assign ch_state[CHANNELS*32-1:0] = {(CHANNELS*32){1'b0}};
+            assign ch_state = {(CHANNELS*32){1'b0}};
             assign cmd_level = 16'd0;
             assign res_level = 16'd0;
 `else
-            assign ch_state[CHANNELS*32-1:0] = dut.u_core.c_st;
+            assign ch_state = st_view(dut.u_core.c_st, dut.u_core.c_nx_fld);
             assign cmd_level = dut.u_core.cmd_level16;
             assign res_level = dut.u_core.res_level16;
 `endif
@@ -217,7 +235,7 @@ module tb_core #(
                 .s_axil_rvalid(s_axil_rvalid), .s_axil_rready(s_axil_rready),
                 .irq(irq), .line_o(lo), .line_oe(loe), .line_i(li)
             );
-            assign ch_state[CHANNELS*32-1:0] = dut.u_core.c_st;
+            assign ch_state = st_view(dut.u_core.c_st, dut.u_core.c_nx_fld);
             assign cmd_level = dut.u_core.cmd_level16;
             assign res_level = dut.u_core.res_level16;
             assign wb_dat_o = 32'd0; assign wb_ack_o = 1'b0; assign wb_err_o = 1'b0;
