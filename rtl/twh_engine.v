@@ -114,7 +114,8 @@ module twh_engine #(
     output wire [CHANNELS-1:0] busy,           // a command queued or running, or a
                                                // transaction on the line (a poll's too)
     output wire [CHANNELS-1:0] pending,        // a queued command not started yet
-    output wire [CHANNELS-1:0] full,           // its queue is full
+    output wire [CHANNELS-1:0] full,           // its queue is full, or a taken command
+                                               // waits for its channel's visit
     output wire                cancelling,     // a flush's cancels are still to come
     output wire [CHANNELS*3-1:0] phase,        // each channel's phase as its last visit left it
     output wire [CHANNELS*3-1:0] fld,          // the timing field its next phase loads
@@ -198,8 +199,8 @@ module twh_engine #(
     reg  [CHANNELS*3-1:0] ph_q;          // each channel's phase, as its last visit wrote it
     reg  [CN-1:0]        init;           // the words were written since reset
     reg  [CN-1:0]        full_m;         // its queue is full (count QDEPTH)
-    reg  [CHANNELS-1:0]  busy_m;        // its queue is not empty, or it is not idle
-    reg  [CHANNELS-1:0]  pend_m;        // an entry queued and not started
+    reg  [CHANNELS-1:0]  busy_m;         // its queue is not empty, or it is not idle
+    reg  [CHANNELS-1:0]  pend_m;         // an entry queued and not started
     reg  [CN-1:0]        cz_m;           // a flush's count left
     reg  [CN-1:0]        fpend;          // a flush came since its last visit's S1: its
                                          // next visit counts what the flush cancels

@@ -20,7 +20,9 @@ module twh_ram #(
     output reg  [W-1:0]  rdata
 );
     // a read of the word written in the same clock is never used: the
-    // engine reads a channel's word at least four clocks after its write.
+    // engine reads a channel's state word at least four clocks after its
+    // write, and its control word, read in its write's clock at a period
+    // of four clocks, is then taken from the write (twh_engine's s0_fwd).
     // Both branches are g_mem, so a proof names a word as g_mem.mem[a]
     // whichever is built.
     generate
