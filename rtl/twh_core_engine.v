@@ -5,13 +5,16 @@
 // stream into per-channel queues rather than one slot a channel.
 //
 // - Commands: the core's dispatcher pushes the command FIFO's head into its
-//   channel's queue when that queue is not full (`full`), so a command
-//   waits behind another channel's only when four are queued there.
+//   channel's queue when that queue is not full and the engine's waiting
+//   register is free (`full`), so a command waits behind another channel's
+//   only while four are queued there, or for at most a carrier period
+//   while the one before it waits for its channel's visit.
 // - Phase lengths: twh_timing fetches, for every channel, the field its next
-//   phase loads (from the engine's `phase`: NX_PHASE) and clamps it; this module writes each
-//   length into the engine's timing RAM. A phase lasts at least 900 us
-//   (outside the lab unlock), and its successor's field is fetched within
-//   CHANNELS + 6 clocks of its start, long before its last period reads it.
+//   phase loads (decoded from the engine's `phase`: NX_PHASE) and clamps
+//   it; this module writes each length into the engine's timing RAM. A
+//   phase lasts at least 900 us (outside the lab unlock), and its
+//   successor's field is fetched within CHANNELS + 6 clocks of its start,
+//   long before its last period reads it.
 // - STATE: PHASE the engine's phase, BUSY a transaction under way (phases
 //   charge to turnaround), SLOT_FULL a queued command not started; read
 //   with POLL_CTRL and POLL_RESULT on rd_data, a clock after the request.

@@ -50,6 +50,9 @@
 // The time-shared engine's clock floor (docs/engine.md): P = CLK_HZ / 1 MHz
 // clocks a period, FRAC the Hz left over. twh_engine checks it, and
 // twh_carrier for the core (so that a bad clock names one error).
+`define TWH_ENGINE_FLOOR_OK(p, frac, ch) \
+    ((p) >= 4 && (p) >= (ch) && (ch) + 4 < 2 * (p) && ((frac) == 0 || (p) >= (ch) + 5))
+
 // The timing field (twh_timing's codes: 1 charge .. 6 turnaround) that the
 // phase after phase `p` loads, for the time-shared engine, which keeps a
 // channel's phase and not its field (twh_engine reads its timing RAM with
@@ -60,9 +63,6 @@
     (((p) == `TWH_PH_CHARGE) ? 3'd2 : ((p) == `TWH_PH_SYNC) ? 3'd3 : \
      ((p) == `TWH_PH_PREAMBLE || (p) == `TWH_PH_COMMAND) ? 3'd4 : \
      ((p) == `TWH_PH_EXECUTE) ? 3'd5 : ((p) == `TWH_PH_LISTEN) ? 3'd6 : 3'd1)
-
-`define TWH_ENGINE_FLOOR_OK(p, frac, ch) \
-    ((p) >= 4 && (p) >= (ch) && (ch) + 4 < 2 * (p) && ((frac) == 0 || (p) >= (ch) + 5))
 
 `define TWH_MAGIC         32'h54574831    // "TWH1"
 `define TWH_VERSION_MAJOR 8'd2
