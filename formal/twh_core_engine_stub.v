@@ -4,7 +4,11 @@
 // tests it, and nothing else:
 //   - each channel has a queue of four entries; the core pushes (cmd_valid)
 //     only into a channel whose queue is not full (`full`; the core's proof
-//     checks that);
+//     checks that). The real engine's `full` is also 1 while a command it
+//     took waits (at most a carrier period) for its channel's visit, which
+//     writes it into the queue, and a flush meanwhile marks it CANCELLED;
+//     this stand-in takes the command into its queue at once, so the proof
+//     does not see that wait, which only delays the next dispatch;
 //   - the head starts at a free moment, when `enable` is 1 or it has a skip
 //     code; started, it gives a link status (0-6) and data, or, with a skip
 //     code (BLOCKED, CANCELLED), that status and data 0 without reaching
