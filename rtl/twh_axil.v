@@ -38,7 +38,8 @@ module twh_axil #(
     input  wire [CHANNELS-1:0] line_i
 );
     reg  busy;                        // an access is in the core
-    wire idle = !busy && !s_axil_bvalid && !s_axil_rvalid;
+    wire ready;                       // the core takes requests (not during its reset sweep)
+    wire idle = !busy && !s_axil_bvalid && !s_axil_rvalid && ready;
     wire do_write = idle && s_axil_awvalid && s_axil_wvalid;
     wire do_read  = idle && s_axil_arvalid && !do_write;
 
@@ -54,7 +55,7 @@ module twh_axil #(
                .PROG_TIMING(PROG_TIMING), .POLLING(POLLING), .ENGINE(ENGINE),
                .RAM_BLOCK(RAM_BLOCK)) u_core (
         .clk(clk), .rst(rst),
-        .reg_req(do_write || do_read), .reg_we(do_write),
+        .reg_ready(ready), .reg_req(do_write || do_read), .reg_we(do_write),
         .reg_addr(do_write ? s_axil_awaddr : s_axil_araddr),
         .reg_wdata(s_axil_wdata), .reg_wstrb(s_axil_wstrb),
         .reg_ack(ack), .reg_err(err), .reg_rdata(rdata),

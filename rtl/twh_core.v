@@ -15,6 +15,13 @@
 // is there for speed: everything the request decides starts from its
 // flip-flops, and the checks that need a comparator (the timing windows, the
 // unlock keys, the factory-area rule) are taken on the way into it.
+// A request is made only while reg_ready is 1. After a reset it is 0 while
+// twh_timing's sweep writes every timing and poll register's reset value
+// into the memories and the engines take their lengths from them: 32
+// clocks up to 4 channels, 64 up to 8, 128 up to 16, 256 up to 32 (none
+// with fixed timing and no poller); then 1 until the next reset. (A
+// "written since reset" flag a register in place of the sweep cost about
+// six logic cells a channel.)
 // Errors: unmapped address, a write with byte enables other than all four,
 // a push into the full command FIFO, a push for an absent channel.
 //
@@ -53,6 +60,7 @@ module twh_core #(
     input  wire                clk,
     input  wire                rst,
     // register port
+    output wire                reg_ready,    // a request may be made (0 after a reset, for a while)
     input  wire                reg_req,
     input  wire                reg_we,
     input  wire [10:0]         reg_addr,
@@ -497,8 +505,13 @@ module twh_core #(
     // comes out of the block RAM's register in the answer's clock
     wire [1:0]  q_treg = q_addr[3:2];            // TIMING0-2 of a channel block
     wire        t_wr  = q_wr_t && t_take;        // a timing write taken
-    twh_timing #(.CHANNELS(CH_N), .PROG(PROG_TIMING), .NX_PHASE(ENGINE_N != 0 ? 1 : 0)) u_timing (
-        .clk(clk), .rst(rst), .lab(lab),
+    // (its reset sweep writes the pollers' registers too: SWEEP; the
+    // register port waits for it, t_ready)
+    wire        t_ready, t_sw_we;
+    wire [4:0]  t_sw_ch;
+    twh_timing #(.CHANNELS(CH_N), .PROG(PROG_TIMING), .NX_PHASE(ENGINE_N != 0 ? 1 : 0),
+                 .SWEEP((ENGINE_N != 0 && POLLING != 0) ? 1 : 0)) u_timing (
+        .clk(clk), .rst(rst), .ready(t_ready), .sw_we(t_sw_we), .sw_ch(t_sw_ch), .lab(lab),
         .wr(t_wr), .wr_ch(q_blk), .wr_reg(q_treg),
         .wr_data(q_wdata), .wr_cmp(q_cmp),
         .rd(q_r_t), .rd_ch(q_blk), .rd_reg(q_treg), .rd_data(t_rdata),
@@ -511,8 +524,8 @@ module twh_core #(
         if (ENGINE_N != 0) begin : g_engine
             twh_core_engine #(.CLK_HZ(CLK_HZ), .CHANNELS(CH_N), .POLLING(POLLING),
                               .RAM_BLOCK(RAM_BLOCK)) u_engine (
-                .clk(clk), .rst(rst), .ms_tick(ms_tick), .tick(us_tick), .fall(us_fall),
-                .enable(enable), .idle_charge(idle_charge[CH_N-1:0]),
+                .clk(clk), .rst(rst), .ms_tick(ms_tick), .sw_we(t_sw_we), .sw_ch(t_sw_ch),
+                .tick(us_tick), .fall(us_fall), .enable(enable), .idle_charge(idle_charge[CH_N-1:0]),
                 .wdata(q_wdata), .pc_wr(q_wp && wr && q_win_p), .rd_ctrl(q_r_pc),
                 .rd_res(q_r_pr), .rd_state(q_r_st), .reg_ch(q_blk), .rd_data(p_rdata),
                 .nx_ph(c_nx_fld), .dur_v(t_dur_v), .dur_ch(t_dur_ch), .dur(t_dur),
@@ -550,7 +563,7 @@ module twh_core #(
             assign p_rdata = 32'd0;
             // (the channels' own registers answer POLL_CTRL / POLL_RESULT)
             // verilator lint_off UNUSEDSIGNAL
-            wire unused_r_p = q_r_pc | q_r_pr | q_r_st | ^t_dur_ch | t_dur_v;
+            wire unused_r_p = q_r_pc | q_r_pr | q_r_st | ^t_dur_ch | t_dur_v | t_sw_we | ^t_sw_ch;
             // verilator lint_on UNUSEDSIGNAL
         for (n = 0; n < CHANNELS; n = n + 1) begin : g_ch
             wire sel = q_ch[n];
@@ -781,6 +794,7 @@ module twh_core #(
         end
     end
     assign reg_rdata = rdata_q | rdata_c_q | ({32{t_rd_q}} & t_rdata) | p_rdata;
+    assign reg_ready = t_ready;
 
 `ifdef FORMAL
     // ================================================================ formal
@@ -795,6 +809,8 @@ module twh_core #(
     // stand-in's queues.
     reg f_h = 1'b0;           // one clock of history
     always @(posedge clk) f_h <= 1'b1;
+    // the wrappers request only while the port is ready (their own proofs)
+    always @(*) if (!reg_ready) assume(!reg_req);
     always @(*) begin
         // an error comes only with its answer
         if (f_h && reg_err) assert(reg_ack);

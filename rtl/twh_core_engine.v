@@ -32,6 +32,10 @@ module twh_core_engine #(
     input  wire                   clk,
     input  wire                   rst,
     input  wire                   ms_tick,
+    // twh_timing's reset sweep: this channel's poll registers take their
+    // reset values
+    input  wire                   sw_we,
+    input  wire [4:0]             sw_ch,
     input  wire                   tick,
     input  wire                   fall,
     input  wire                   enable,
@@ -115,7 +119,7 @@ module twh_core_engine #(
         .p_count(p_count)
     );
     twh_polls #(.CHANNELS(CHANNELS), .POLLING(POLLING), .RAM_BLOCK(RAM_BLOCK)) u_polls (
-        .clk(clk), .rst(rst), .ms_tick(ms_tick),
+        .clk(clk), .rst(rst), .ms_tick(ms_tick), .sw_we(sw_we), .sw_ch(sw_ch[CW-1:0]),
         .wr(pc_wr), .wr_ch(reg_ch[CW-1:0]), .wr_data(wdata),
         .rd_ctrl(rd_ctrl), .rd_res(rd_res), .rd_ch(reg_ch[CW-1:0]), .rd_data(p_rdata),
         .scan_ch(scan_ch), .poll_cmd(p_cmd), .poll_req(p_due),
@@ -131,7 +135,7 @@ module twh_core_engine #(
     // pushes only into a queue that is not full: `full`)
     // verilator lint_off UNUSEDSIGNAL
     wire       cmd_ready;
-    wire [4:0] unused_ch = cmd_ch ^ reg_ch ^ dur_ch;
+    wire [4:0] unused_ch = cmd_ch ^ reg_ch ^ dur_ch ^ sw_ch;
     // verilator lint_on UNUSEDSIGNAL
 
     // STATE of the channel read, a clock after the request stage (as

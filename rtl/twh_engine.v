@@ -197,7 +197,6 @@ module twh_engine #(
     // (flip-flops; what the core reads of every channel at once, copied
     // from the control word at each visit's write, and a flush's flag)
     reg  [CHANNELS*3-1:0] ph_q;          // each channel's phase, as its last visit wrote it
-    reg  [CN-1:0]        init;           // the words were written since reset
     reg  [CN-1:0]        full_m;         // its queue is full (count QDEPTH)
     reg  [CHANNELS-1:0]  busy_m;         // its queue is not empty, or it is not idle
     reg  [CHANNELS-1:0]  pend_m;         // an entry queued and not started
@@ -254,10 +253,26 @@ module twh_engine #(
         .clk(clk), .we(s3_v), .waddr(s3_ch), .wdata(s3_ctl),
         .raddr(pre_ch), .rdata(c_rd)
     );
+    // Reset needs no flag a channel: every scan visits and writes every
+    // channel, so a channel's words are its own from the second scan after
+    // reset on, and the first takes the reset words. run1: a tick came
+    // since reset (a scan starting now is not the first); run2: two did
+    // (the scan under way is not the first).
+    reg            run1, run2;
+    always @(posedge clk) begin
+        if (rst) begin
+            run1 <= 1'b0;
+            run2 <= 1'b0;
+        end else if (tick) begin
+            run1 <= 1'b1;
+            run2 <= run1;
+        end
+    end
+    wire           pre_init = tick ? run1 : run2;
     reg            s0_init, s0_fwd;
     reg  [CTW-1:0] s0_fv;
     always @(posedge clk) begin
-        s0_init <= init[pre_ch];
+        s0_init <= pre_init;
         s0_fwd  <= (FWD != 0) && pre_v && s3_v && (s3_ch == pre_ch);
         s0_fv   <= s3_ctl;
     end
@@ -677,7 +692,6 @@ module twh_engine #(
                 always @(posedge clk) begin
                     if (rst) begin
                         ph_q[n*3 +: 3] <= `TWH_PH_IDLE;
-                        init[n]        <= 1'b0;
                         full_m[n]      <= 1'b0;
                         busy_m[n]      <= 1'b0;
                         pend_m[n]      <= 1'b0;
@@ -686,7 +700,6 @@ module twh_engine #(
                     end else begin
                         if (at_s3) begin
                             ph_q[n*3 +: 3] <= s3_word[2:0];
-                            init[n]        <= 1'b1;
                             full_m[n]      <= s3_full;
                             busy_m[n]      <= s3_busy;
                             pend_m[n]      <= s3_pend;
@@ -715,7 +728,6 @@ module twh_engine #(
                 // indices past the last channel (CHANNELS not a power of two):
                 // full, so no command is taken for one
                 always @(posedge clk) begin
-                    init[n]        <= 1'b0;
                     full_m[n]      <= 1'b1;
                     cz_m[n]        <= 1'b0;
                     fpend[n]       <= 1'b0;
@@ -772,6 +784,7 @@ module twh_engine #(
         end
     end
     wire [W-1:0] f_cur = f_wr ? f_w : W_RESET;     // the channel's state as it stands
+    wire         f_wr_nx = f_wr || (s3_v && s3_ch == f_ch);
     // ... and its control word
     reg  [CTW-1:0] f_c;
     always @(posedge clk) if (s3_v && s3_ch == f_ch) f_c <= s3_ctl;
@@ -815,7 +828,8 @@ module twh_engine #(
             if (tick) assert(!s0_v);
             // nothing is visited before the first tick after reset
             if (!f_ticked) assert(!s0_v && !s1_v && !s2_v && !s3_v && !s4_v && !f_wr &&
-                                  init == {CN{1'b0}});
+                                  !run1 && !run2);
+            if (run2) assert(run1);
             // the stages carry what S0 read, a clock apart
             if (s1_v) assert(s1_ch < CHANNELS);
             if (s2_v) assert(s2_ch < CHANNELS);
@@ -830,7 +844,12 @@ module twh_engine #(
             if (s1_v && s1_ch == f_ch) assert(s1_init == f_wr);
             if (s1_v && s1_ch == f_ch && f_wr) assert(st_rd == f_w);
             if (s2_v && s2_ch == f_ch) assert(s2_w == f_cur && s2_last == (f_cur[18:4] == 15'd0));
-            assert(init[f_ch] == f_wr);
+            // written since reset, or being written: from the first scan's
+            // S3 on (f_ch + 4 clocks after the tick: at P = 4 the last
+            // channel's falls in the next scan's first clock), so at the
+            // pre-read the scan flags tell it
+            assert(f_wr_nx == (run2 || (run1 && f_since >= {{(8-CW){1'b0}}, f_ch} + 8'd4)));
+            if (pre_v && pre_ch == f_ch) assert(pre_init == f_wr_nx);
             // the control word read is the one the last visit wrote, and
             // the flags the core reads are its copies
             if (s0_v && s0_ch == f_ch) assert(c0 == f_cc);

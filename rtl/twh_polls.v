@@ -1,9 +1,8 @@
 // Every channel's autonomous poller for the time-shared engine, its
 // registers in RAM: POLL_CTRL (bus read and write), POLL_RESULT (bus read),
 // each channel's millisecond timer, and the command the engine sends. Per
-// channel only four flags stay in flip-flops (due, restart, and whether
-// each register was written since reset), so a channel costs a few cells
-// here rather than a poller's eighty flip-flops.
+// channel only two flags stay in flip-flops (due, restart), so a channel
+// costs a few cells here rather than a poller's eighty flip-flops.
 //
 // - A walker steps every channel's timer once a millisecond (three clocks a
 //   channel: read, step, commit; a bus read of POLL_CTRL takes the memory's
@@ -22,8 +21,10 @@
 // - POLL_RESULT is written when a poll's result arrives, with the count
 //   the engine keeps in the channel's state word; a read in the clock of
 //   that write answers the word written.
-// - Reset: a register not written since reads its reset value (a flag per
-//   channel), so a reset needs no walk through the memories.
+// - Reset: twh_timing's reset sweep names every channel in turn (sw_we,
+//   sw_ch) and POLL_CTRL and POLL_RESULT are written with their reset
+//   values; the register port takes no request and the walker does not
+//   start until the sweep is over (the timers need none: `restart`).
 `default_nettype none
 `include "twh_defs.vh"
 module twh_polls #(
@@ -37,6 +38,10 @@ module twh_polls #(
     input  wire                clk,
     input  wire                rst,
     input  wire                ms_tick,
+    // the reset sweep (twh_timing): this channel's registers take their
+    // reset values; no bus access, poll or result comes while it runs
+    input  wire                sw_we,
+    input  wire [CW-1:0]       sw_ch,
     // the core's request stage: an accepted POLL_CTRL write, a read
     input  wire                wr,
     input  wire [CW-1:0]       wr_ch,
@@ -60,7 +65,7 @@ module twh_polls #(
 );
     localparam [31:0] CTRL_DEF = (POLLING != 0) ? {1'b0, 15'd1000, 8'hAA, 8'h44} : 32'd0;
 
-    reg  [CHANNELS-1:0] due, restart, pc_wr, pr_wr;
+    reg  [CHANNELS-1:0] due, restart;
 
     // ------------------------------------------------------------ POLL_CTRL
     reg          w_on, w_pend, w_dirty;
@@ -73,13 +78,17 @@ module twh_polls #(
     reg  [31:0]  pc_rd;
     reg  [15:0]  cm_rd;
     wire         cm_we;
+    // POLL_CTRL's write port: the bus's, or the sweep's reset value
+    wire         pc_we = (wr || sw_we) && POLLING != 0;
+    wire [CW-1:0] pc_wa = sw_we ? sw_ch : wr_ch;
+    wire [31:0]  pc_wd = sw_we ? CTRL_DEF : wr_data;
     reg  [15:0]  q_cmd;          // the step's: the command, the timer word, reload
     generate
         if (RAM_BLOCK != 0) begin : g_mem
             (* ram_style = "block" *) (* no_rw_check *) reg [31:0] pc_mem [0:(1 << CW) - 1];
             (* ram_style = "block" *) (* no_rw_check *) reg [15:0] cm_mem [0:(1 << CW) - 1];
             always @(posedge clk) begin
-                if (wr && POLLING != 0) pc_mem[wr_ch] <= wr_data;
+                if (pc_we) pc_mem[pc_wa] <= pc_wd;
                 pc_rd <= pc_mem[rd_ctrl ? rd_ch : w_ch];
                 if (cm_we) cm_mem[w_ch] <= q_cmd;
                 cm_rd <= cm_mem[scan_ch];
@@ -88,7 +97,7 @@ module twh_polls #(
             (* no_rw_check *) reg [31:0] pc_mem [0:(1 << CW) - 1];
             (* no_rw_check *) reg [15:0] cm_mem [0:(1 << CW) - 1];
             always @(posedge clk) begin
-                if (wr && POLLING != 0) pc_mem[wr_ch] <= wr_data;
+                if (pc_we) pc_mem[pc_wa] <= pc_wd;
                 pc_rd <= pc_mem[rd_ctrl ? rd_ch : w_ch];
                 if (cm_we) cm_mem[w_ch] <= q_cmd;
                 cm_rd <= cm_mem[scan_ch];
@@ -111,12 +120,9 @@ module twh_polls #(
     // makes the walker read again: w_dirty), registered for the commit a
     // clock later (off the RAM outputs' path; the flags' multiplexer over
     // the channels is off it too)
-    reg         rs_q, pw_q;
-    always @(posedge clk) if (w_read) begin
-        rs_q <= restart[w_ch];
-        pw_q <= pc_wr[w_ch];
-    end
-    assign      pc_w   = pw_q ? pc_rd : CTRL_DEF;
+    reg         rs_q;
+    always @(posedge clk) if (w_read) rs_q <= restart[w_ch];
+    assign      pc_w   = pc_rd;
     wire        p_en   = pc_w[31];
     wire [14:0] p_iv   = pc_w[30:16];
     wire        rs     = rs_q;
@@ -145,7 +151,7 @@ module twh_polls #(
         end else begin
             if (ms_tick) w_pend <= 1'b1;
             if (!w_on) begin
-                if (w_pend || ms_tick) begin
+                if ((w_pend || ms_tick) && !sw_we) begin
                     w_on   <= 1'b1;
                     w_pend <= 1'b0;
                     w_s    <= 2'd0;
@@ -193,11 +199,7 @@ module twh_polls #(
                 if (rst || POLLING == 0) begin
                     due[n]     <= 1'b0;
                     restart[n] <= 1'b1;
-                    pc_wr[n]   <= 1'b0;
-                    pr_wr[n]   <= 1'b0;
                 end else begin
-                    if (wr_n) pc_wr[n] <= 1'b1;
-                    if (p_res && p_ch == n) pr_wr[n] <= 1'b1;
                     if (wr_n && !wr_data[31])            restart[n] <= 1'b1;
                     else if (clr_rs && set_ch == n)      restart[n] <= 1'b0;
                     if ((wr_n && !wr_data[31]) || (p_take && p_ch == n)) due[n] <= 1'b0;
@@ -212,7 +214,8 @@ module twh_polls #(
     wire [31:0] pr_wd = {p_count, p_status, p_data};
     wire [31:0] pr_rd;
     twh_ram #(.W(32), .AW(CW), .BLOCK(RAM_BLOCK)) u_res (
-        .clk(clk), .we(p_res && POLLING != 0), .waddr(p_ch), .wdata(pr_wd),
+        .clk(clk), .we((p_res || sw_we) && POLLING != 0), .waddr(sw_we ? sw_ch : p_ch),
+        .wdata(sw_we ? 32'd0 : pr_wd),
         .raddr(rd_ch), .rdata(pr_rd)
     );
     wire link_err = (p_status >= `TWH_ST_BAD_CHECKSUM) && (p_status <= `TWH_ST_LINE_STUCK_HIGH);
@@ -223,19 +226,17 @@ module twh_polls #(
     end
 
     // ------------------------------------------------------------ bus reads
-    reg        q_ctrl, q_res, q_pcw, q_prw, q_byp;
+    reg        q_ctrl, q_res, q_byp;
     reg [31:0] q_byw;
     always @(posedge clk) begin
         q_ctrl <= !rst && rd_ctrl;
         q_res  <= !rst && rd_res;
-        q_pcw  <= pc_wr[rd_ch];
-        q_prw  <= pr_wr[rd_ch];
         // a POLL_RESULT read meeting its channel's write: the word written
         q_byp  <= p_res && p_ch == rd_ch;
         q_byw  <= pr_wd;
     end
-    assign rd_data = ({32{q_ctrl}} & (q_pcw ? pc_rd : CTRL_DEF)) |
-                     ({32{q_res && POLLING != 0}} & (q_byp ? q_byw : q_prw ? pr_rd : 32'd0));
+    assign rd_data = ({32{q_ctrl}} & (POLLING != 0 ? pc_rd : 32'd0)) |
+                     ({32{q_res && POLLING != 0}} & (q_byp ? q_byw : pr_rd));
 
 `ifdef FORMAL
     // ================================================================ formal
@@ -257,6 +258,30 @@ module twh_polls #(
     end
     (* anyconst *) reg [CW-1:0] f_n;
     always @(*) assume(f_n < CHANNELS);
+    // the reset sweep, as twh_timing runs it and the core waits for it: on
+    // from reset until it ends, then never again before a reset; every
+    // channel named before it ends; no bus access, poll or result while it
+    // runs (any order, any length: more than the real sweep's)
+    reg                f_swo;
+    reg [CHANNELS-1:0] f_swd;
+    integer            f_i;
+    always @(posedge clk) begin
+        if (rst) begin
+            f_swo <= 1'b1;
+            f_swd <= {CHANNELS{1'b0}};
+        end else begin
+            if (!sw_we) f_swo <= 1'b0;
+            for (f_i = 0; f_i < CHANNELS; f_i = f_i + 1)
+                if (sw_we && sw_ch == f_i) f_swd[f_i] <= 1'b1;
+        end
+    end
+    always @(*) begin
+        if (f_ok && !rst) begin
+            if (!f_swo) assume(!sw_we);
+            if (f_swo && !sw_we) assume(f_swd == {CHANNELS{1'b1}});
+            if (f_swo) assume(!wr && !rd_ctrl && !rd_res && !p_take && !p_res);
+        end
+    end
     reg [CW-1:0] f_sc;            // the channel the engine's read named a clock ago
     reg          f_past = 1'b0;
     always @(posedge clk) begin
@@ -266,11 +291,13 @@ module twh_polls #(
     always @(*) begin
         if (f_ok && POLLING != 0) begin
             // every POLL_CTRL word that polls names a read-only command
-            if (pc_wr[f_n] && g_mem.pc_mem[f_n][31]) assert(f_ro(g_mem.pc_mem[f_n][7:0]));
+            if ((!f_swo || f_swd[f_n]) && g_mem.pc_mem[f_n][31]) assert(f_ro(g_mem.pc_mem[f_n][7:0]));
+            // nothing walks or falls due before the sweep is over
+            if (f_swo) assert(!w_on && due == {CHANNELS{1'b0}} && !set_due);
             // the walker's word is the memory's, unless a write met its read;
             // the command its step took is read-only when it falls due
             if (w_on && w_s == 2'd1 && !w_dirty)
-                assert(pc_rd == g_mem.pc_mem[w_ch] && rs_q == restart[w_ch] && pw_q == pc_wr[w_ch]);
+                assert(pc_rd == g_mem.pc_mem[w_ch] && rs_q == restart[w_ch]);
             if (w_on && w_s == 2'd2 && !w_dirty && q_reload && w_ch == f_n) assert(f_ro(q_cmd[7:0]));
             if (w_on) assert(w_s != 2'd3);
             if (w_on) assert(w_ch < CHANNELS);
@@ -285,7 +312,7 @@ module twh_polls #(
     always @(posedge clk) begin
         if (f_ok && !rst) begin
             cover(p_take && p_ch == f_n);
-            cover(set_due && set_ch == f_n && pc_wr[f_n]);
+            cover(set_due && set_ch == f_n);
         end
     end
 `endif

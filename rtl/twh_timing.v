@@ -11,8 +11,15 @@
 //   takes the port; the fetch of that clock is dropped and comes round
 //   again (three iCE40 blocks of 16 bits rather than a copy for each side's
 //   two and three).
-// - A word never written since reset reads its default (a flag per word
-//   cleared by rst), so a reset needs no walk through the memory.
+// - Reset: a sweep writes every word's default, one word a clock (`SW`
+//   clocks: four words a channel, rounded up to a power of two), then waits
+//   as long again so that the fetch has handed every channel its lengths
+//   from the swept words; `ready` is low until then, and the core's
+//   register port takes no request while it is (so no bus write is swept
+//   over). The same sweep writes the pollers' registers' reset values
+//   (`sw_we`, `sw_ch`: twh_polls). A memory written back to its defaults
+//   costs no cells a channel, where a "written since reset" flag a word
+//   and its multiplexers cost about six (docs/engine.md).
 // - The core's request stage writes (its verdict taken: in the window, or
 //   lab) and reads (the address in that clock, the word a clock later on
 //   rd_data, from the block RAM's own register). One request is in the
@@ -39,10 +46,18 @@ module twh_timing #(
     // 1: nx_fld carries each channel's phase (the time-shared engine's),
     // and the field its successor loads is decoded after the fetch's
     // channel multiplexer (one decode rather than one a channel)
-    parameter integer NX_PHASE = 0
+    parameter integer NX_PHASE = 0,
+    // 1: run the reset sweep with fixed timing too (PROG = 0), for the
+    // pollers' registers (the core: the engine with POLLING)
+    parameter integer SWEEP    = 1
 ) (
     input  wire                  clk,
     input  wire                  rst,
+    // the reset sweep: the register port may take requests (ready); the
+    // channel whose registers are written with their reset values (sw_we)
+    output wire                  ready,
+    output wire                  sw_we,
+    output wire [4:0]            sw_ch,
     input  wire                  lab,        // lengths run unclamped
     // bus write (the core's verdict taken: the value is to be stored)
     input  wire                  wr,
@@ -92,41 +107,44 @@ module twh_timing #(
     // verilator lint_off UNUSEDSIGNAL
     wire unused_ch = ^wr_ch ^ ^rd_ch;
     // verilator lint_on UNUSEDSIGNAL
-    // the words that exist: TIMING0-2 of each channel
-    function [NW-1:0] words_mask;
-        input integer n;
-        integer i;
-        begin
-            words_mask = {NW{1'b0}};
-            for (i = 0; i < n; i = i + 1) words_mask[i*4 +: 3] = 3'b111;
-        end
-    endfunction
-    localparam [NW-1:0] WORDS = words_mask(CHANNELS);
     // {window flags, value}: the flags twh_window took of the value
     (* no_rw_check *) reg [35:0] mem [0:NW-1];
-    reg [NW-1:0] written;                 // word {ch, reg} holds a value
     wire [AW-1:0] wa = {wr_ch[AW-3:0], wr_reg};
     wire [AW-1:0] ra = {rd_ch[AW-3:0], rd_reg};
     reg  [35:0] m_rd;                     // the port's word: the bus's after rd, else the fetch's
-    always @(posedge clk) if (wr) mem[wa] <= {wr_cmp, wr_data};
-    wire [31:0] rb_word = m_rd[31:0];
-    // each flag from its own address compare (a shift of a one into the
-    // whole vector put the write's verdict four LUTs deep); one block, so
-    // Icarus wakes one process a clock, not one per word
-    integer wi;
-    always @(posedge clk) if (rst || wr) begin
-        for (wi = 0; wi < NW; wi = wi + 1)
-            written[wi] <= !rst && WORDS[wi] && (written[wi] || wa == wi[AW-1:0]);
+
+    // ------------------------------------------------------------ reset sweep
+    // sw_n: the word written (first half, sw_n[AW] = 0), then the wait
+    // for the fetch's round (second half); a narrow up-counter of its own
+    // with the end a carry, not a compare against CHANNELS
+    localparam integer SW_ON = (PROG != 0 || SWEEP != 0) ? 1 : 0;
+    reg  [AW:0] sw_n;
+    reg         sw_on;
+    always @(posedge clk) begin
+        if (rst) begin
+            sw_n  <= {(AW+1){1'b0}};
+            sw_on <= (SW_ON != 0);
+        end else if (sw_on) begin
+            sw_n  <= sw_n + 1'b1;
+            sw_on <= (sw_n != {(AW+1){1'b1}});
+        end
     end
+    assign ready = !sw_on;
+    assign sw_we = sw_on && !sw_n[AW];
+    wire [AW-1:0] sw_a = sw_n[AW-1:0];
+    assign sw_ch = {{(7-AW){1'b0}}, sw_a[AW-1:2]};
+    // (the port waits for ready, so a bus write never meets the sweep)
+    always @(posedge clk)
+        if (wr || sw_we) mem[sw_we ? sw_a : wa] <= sw_we ? {4'd0, def_word(sw_a[1:0])}
+                                                          : {wr_cmp, wr_data};
+    wire [31:0] rb_word = m_rd[31:0];
+    // (words past TIMING2 and past the last channel are swept too, and
+    // never read)
 
     // ------------------------------------------------------------ bus read
-    reg         rb_written;
     reg  [1:0]  rb_reg;
-    always @(posedge clk) begin
-        rb_written <= written[ra];
-        rb_reg     <= rd_reg;
-    end
-    assign rd_data = (PROG != 0 && rb_written) ? rb_word : def_word(rb_reg);
+    always @(posedge clk) rb_reg <= rd_reg;
+    assign rd_data = (PROG != 0) ? rb_word : def_word(rb_reg);
 
     // ------------------------------------------------------------ fetch
     // stage 0: the channel in turn names its field and the word is read
@@ -149,7 +167,7 @@ module twh_timing #(
     // a wire chosen by CHANNELS the one-channel netlist came out a dozen
     // LUTs larger (Yosys 0.70), where this keeps it the direct fetch's own.
     wire [35:0] e_word = m_rd;
-    reg         e_written, e_ok;
+    reg         e_ok;
     reg  [4:0]  e_ch;
     reg  [2:0]  e_fld;
     always @(posedge clk) begin
@@ -170,9 +188,10 @@ module twh_timing #(
             end
             always @(posedge clk)
                 m_rd <= mem[rd ? ra : {a_ch[AW-3:0], a_reg}];
+            // (a word read while the sweep writes may not be swept yet:
+            // nothing is handed over then)
             always @(posedge clk) begin
-                e_written <= written[{a_ch[AW-3:0], a_reg}];
-                e_ok      <= !rst && !rd && a_ok && a_fld != 3'd0 && a_fld <= 3'd6;
+                e_ok      <= !rst && !rd && !sw_we && a_ok && a_fld != 3'd0 && a_fld <= 3'd6;
                 e_ch      <= a_ch;
                 e_fld     <= a_fld;
             end
@@ -180,15 +199,14 @@ module twh_timing #(
             always @(posedge clk)
                 m_rd <= mem[rd ? ra : {f_ch[AW-3:0], f_reg}];
             always @(posedge clk) begin
-                e_written <= written[{f_ch[AW-3:0], f_reg}];
-                e_ok      <= !rst && !rd && f_fld != 3'd0 && f_fld <= 3'd6;
+                e_ok      <= !rst && !rd && !sw_we && f_fld != 3'd0 && f_fld <= 3'd6;
                 e_ch      <= f_ch;
                 e_fld     <= f_fld;
             end
         end
     endgenerate
-    wire [2:0]  e_fm1  = e_fld - 3'd1;             // {register, half}
-    wire [35:0] e_val  = e_written ? e_word : {4'd0, def_word(e_fm1[2:1])};
+    wire        e_hi   = !e_fld[0];                // fields 2, 4, 6: a word's high half
+    wire [35:0] e_val  = e_word;
     reg  [15:0] p_v;
     reg         p_b, p_a;
     reg  [2:0]  p_fld;
@@ -202,9 +220,9 @@ module twh_timing #(
     reg                 p_ok;
     always @(posedge clk) begin
         p_ok  <= !rst && e_ok;
-        p_v   <= e_fm1[0] ? e_val[31:16] : e_val[15:0];
-        p_b   <= !lab && (e_fm1[0] ? e_val[34] : e_val[32]);
-        p_a   <= !lab && (e_fm1[0] ? e_val[35] : e_val[33]);
+        p_v   <= e_hi ? e_val[31:16] : e_val[15:0];
+        p_b   <= !lab && (e_hi ? e_val[34] : e_val[32]);
+        p_a   <= !lab && (e_hi ? e_val[35] : e_val[33]);
         p_we  <= (!rst && e_ok) ? ONE << e_ch : {CHANNELS{1'b0}};
         p_fld <= e_fld;
         p_ch  <= e_ch;
@@ -301,6 +319,8 @@ module twh_timing #(
         // a bus read names an existing channel's TIMING0-2, and a request
         // is a read or a write
         if (rd) assume(!wr && rd_reg <= 2'd2 && rd_ch < CHANNELS);
+        // the core's register port takes no request during the sweep
+        if (!ready) assume(!wr && !rd);
         // (a phase, NX_PHASE, is any of the eight)
         for (f_c = 0; f_c < CHANNELS; f_c = f_c + 1)
             if (NX_PHASE == 0) assume(nx_fld[f_c*3 +: 3] >= 3'd1 && nx_fld[f_c*3 +: 3] <= 3'd6);
@@ -331,8 +351,14 @@ module twh_timing #(
 
     always @(*) begin
         if (f_ok) begin
-            assert(written[f_a] == f_w);
-            if (f_w) assert(mem[f_a] == {f_flags(f_areg, f_val), f_val});
+            // the sweep has written the word's default (and the defaults
+            // lie in their windows: no flags) or a write its value, which
+            // only comes once the sweep is over
+            if (PROG != 0 && (!sw_on || sw_n[AW] || sw_n[AW-1:0] > f_a))
+                assert(mem[f_a] == (f_w ? {f_flags(f_areg, f_val), f_val}
+                                        : {4'd0, f_def(f_areg)}));
+            if (f_w) assert(!sw_on);
+            if (PROG == 0 && SWEEP == 0) assert(!sw_on);
             // the fetch takes every channel in turn
             assert(f_ch < CHANNELS);
             // fixed timing: nothing is ever written
@@ -371,7 +397,7 @@ module twh_timing #(
         f0_ok  <= f_ok && !rst;
         f0_ch  <= f_ch;
         f0_fld <= f_fld;
-        f1_ok  <= r_ok && !rst && !rd;
+        f1_ok  <= r_ok && !rst && !rd && !sw_we;
         f1_hit <= r_ch == f_ach && r_reg == f_areg;
         f1_ch  <= r_ch;
         f1_fld <= r_fld;

@@ -34,9 +34,10 @@ module twh_wb #(
     input  wire [CHANNELS-1:0] line_i
 );
     wire ack, err;
+    wire ready;  // the core takes requests (not during its reset sweep)
     reg  busy;   // a taken strobe waits for its answer
     reg  drop;   // ... and its cycle was abandoned: the answer is swallowed
-    wire req = wb_cyc_i && wb_stb_i && !busy;
+    wire req = wb_cyc_i && wb_stb_i && !busy && ready;
     always @(posedge clk) begin
         if (rst) begin
             busy <= 1'b0;
@@ -54,7 +55,7 @@ module twh_wb #(
                .PROG_TIMING(PROG_TIMING), .POLLING(POLLING), .ENGINE(ENGINE),
                .RAM_BLOCK(RAM_BLOCK)) u_core (
         .clk(clk), .rst(rst),
-        .reg_req(req), .reg_we(wb_we_i), .reg_addr(wb_adr_i),
+        .reg_ready(ready), .reg_req(req), .reg_we(wb_we_i), .reg_addr(wb_adr_i),
         .reg_wdata(wb_dat_i), .reg_wstrb(wb_sel_i),
         .reg_ack(ack), .reg_err(err), .reg_rdata(wb_dat_o),
         .irq(irq), .line_o(line_o), .line_oe(line_oe), .line_i(line_i)

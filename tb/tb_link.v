@@ -72,23 +72,29 @@ module tb_link #(
     // twh_timing, here with one channel, its words written from the cfg_*
     // inputs one register per clock, with their window flags from the
     // core's twh_window, and cfg_unlock as the lab unlock.
-    // (written for three clocks after a change of cfg_* or a reset, which
-    // clears them: a memory write every clock costs the simulation dearly,
-    // and so does comparing the lengths every clock; a change is seen by
-    // t_chg, which toggles only when one of them moves)
+    // (written for three clocks after a change of cfg_* or the end of a
+    // reset's sweep, which writes the defaults: a memory write every clock
+    // costs the simulation dearly, and so does comparing the lengths every
+    // clock; a change is seen by t_chg, which toggles only when one of them
+    // moves). As the core's register port, the command port waits for the
+    // sweep (t_ready), and for those three writes.
     reg  [1:0]  t_reg = 2'd0;
     reg  [1:0]  t_left = 2'd3;
     reg         t_chg = 1'b0, t_chg_q = 1'b0;
     wire [95:0] t_cfg = {cfg_charge_us, cfg_sync_us, cfg_preamble_us,
                          cfg_execute_us, cfg_listen_us, cfg_turnaround_us};
     always @(t_cfg) t_chg = !t_chg;
-    always @(posedge clk) if (rst || t_left != 2'd0 || t_chg != t_chg_q) begin
-        if (t_left != 2'd0) t_reg <= (t_reg == 2'd2) ? 2'd0 : t_reg + 2'd1;
+    wire        t_ready;
+    wire        t_wr = !rst && t_ready && t_left != 2'd0;
+    always @(posedge clk) if (rst || t_wr || t_chg != t_chg_q) begin
+        if (t_wr) t_reg <= (t_reg == 2'd2) ? 2'd0 : t_reg + 2'd1;
         t_chg_q <= t_chg;
         if (rst || t_chg != t_chg_q) t_left <= 2'd3;
-        else if (t_left != 2'd0)     t_left <= t_left - 2'd1;
+        else if (t_wr)               t_left <= t_left - 2'd1;
     end
-    wire        t_wr = !rst && t_left != 2'd0;
+    wire        s_ready_e;
+    wire        s_open = t_ready && t_left == 2'd0;
+    assign      s_cmd_ready = s_ready_e && s_open;
     wire [31:0] t_word = (t_reg == 2'd0) ? {cfg_sync_us, cfg_charge_us} :
                          (t_reg == 2'd1) ? {cfg_execute_us, cfg_preamble_us} :
                                            {cfg_turnaround_us, cfg_listen_us};
@@ -111,7 +117,7 @@ module tb_link #(
     wire [4:0]  dur_ch;
     wire [31:0] t_rd_unused;
     twh_timing #(.CHANNELS(1)) u_timing (
-        .clk(clk), .rst(rst), .lab(cfg_unlock),
+        .clk(clk), .rst(rst), .ready(t_ready), .sw_we(), .sw_ch(), .lab(cfg_unlock),
         .wr(t_wr), .wr_ch(5'd0), .wr_reg(t_reg), .wr_data(t_word), .wr_cmp(t_cmp),
         .rd(1'b0), .rd_ch(5'd0), .rd_reg(2'd0), .rd_data(t_rd_unused),
         .nx_fld(nx_fld), .dur_we(dur_we), .dur_v(dur_v), .dur_ch(dur_ch), .dur(dur),
@@ -129,7 +135,7 @@ module tb_link #(
                 .clk(clk), .rst(rst), .tick(tick), .tick_nx(tick_nx), .fall(fall),
                 .nx_fld(nx_fld), .dur_we(dur_we), .dur_in(dur), .dur_fld_in(dur_fld),
                 .cfg_idle_charge(cfg_idle_charge),
-                .s_cmd_valid(s_cmd_valid), .s_cmd_ready(s_cmd_ready),
+                .s_cmd_valid(s_cmd_valid && s_open), .s_cmd_ready(s_ready_e),
                 .s_cmd_code(s_cmd_code), .s_cmd_payload(s_cmd_payload), .s_cmd_tag(s_cmd_tag),
                 .s_cmd_skip(s_cmd_skip),
                 .m_res_valid(m_res_valid), .m_res_ready(m_res_ready),
@@ -152,7 +158,7 @@ module tb_link #(
                 .cfg_idle_charge(cfg_idle_charge), .enable(1'b1), .cancel(1'b0),
                 .poll_req(1'b0), .poll_cmd(16'd0), .scan_ch(scan_unused),
                 .t_we(dur_v), .t_ch(dur_ch[0]), .t_fld(dur_fld), .t_len(dur),
-                .s_cmd_valid(s_cmd_valid), .s_cmd_ready(s_cmd_ready), .s_cmd_ch(1'b0),
+                .s_cmd_valid(s_cmd_valid && s_open), .s_cmd_ready(s_ready_e), .s_cmd_ch(1'b0),
                 .s_cmd_code(s_cmd_code), .s_cmd_payload(s_cmd_payload), .s_cmd_tag(s_cmd_tag),
                 .s_cmd_skip(s_cmd_skip),
                 .m_res_valid(m_res_valid), .m_res_ready(m_res_ready), .m_res_ch(res_ch_unused),

@@ -39,13 +39,17 @@ module tb_link_smoke;
     // no peripheral: driven by the host, else pulled low
     wire line_i = line_oe ? line_o : 1'b0;
 
-    // the phase lengths from twh_timing, never written: the defaults
+    // the phase lengths from twh_timing, never written: the defaults (its
+    // reset sweep writes them; the command waits for it, as the core's
+    // register port does)
     wire [2:0]  nx_fld, dur_fld;
     wire [15:0] dur;
     wire        dur_we;
     wire [31:0] t_rd_unused;
+    wire        t_ready, s_ready_e;
+    assign      s_cmd_ready = s_ready_e && t_ready;
     twh_timing #(.CHANNELS(1)) u_timing (
-        .clk(clk), .rst(rst), .lab(1'b0),
+        .clk(clk), .rst(rst), .ready(t_ready), .sw_we(), .sw_ch(), .lab(1'b0),
         .wr(1'b0), .wr_ch(5'd0), .wr_reg(2'd0), .wr_data(32'd0), .wr_cmp(4'd0),
         .rd(1'b0), .rd_ch(5'd0), .rd_reg(2'd0), .rd_data(t_rd_unused),
         .nx_fld(nx_fld), .dur_we(dur_we), .dur_v(), .dur_ch(), .dur(dur), .dur_fld(dur_fld)
@@ -60,7 +64,7 @@ module tb_link_smoke;
         .clk(clk), .rst(rst), .tick(tick), .tick_nx(tick_nx), .fall(fall),
         .nx_fld(nx_fld), .dur_we(dur_we), .dur_in(dur), .dur_fld_in(dur_fld),
         .cfg_idle_charge(1'b0),
-        .s_cmd_valid(s_cmd_valid), .s_cmd_ready(s_cmd_ready),
+        .s_cmd_valid(s_cmd_valid && t_ready), .s_cmd_ready(s_ready_e),
         .s_cmd_code(8'h41), .s_cmd_payload(16'h00AA), .s_cmd_tag(8'h5A),
         .s_cmd_skip(4'd0),
         .m_res_valid(m_res_valid), .m_res_ready(1'b1),

@@ -41,6 +41,7 @@ from cocotbext.axi.constants import AxiResp
 from cocotbext.wishbone.driver import WBOp, WishboneMaster
 
 import protocol as p
+import coretb
 from coretb import OK, TXN_US, CoreTB
 
 BAD_CHANNEL_PUSH_TAG = 7
@@ -107,10 +108,12 @@ class WbThirdParty:
     SIGNALS = {"cyc": "cyc_i", "stb": "stb_i", "we": "we_i", "adr": "adr_i",
                "datwr": "dat_i", "datrd": "dat_o", "ack": "ack_o", "sel": "sel_i",
                "err": "err_o"}
-    ACK_TIMEOUT = 16       # clocks; the core answers in two
-
     def __init__(self, tb):
         self.native = tb.bus            # coretb.WishboneDriver: its cycle check
+        # clocks: the core answers in two, and after a reset once its reset
+        # sweep is over (the project's watcher checks the exact clock)
+        self.ACK_TIMEOUT = 2 + coretb.sweep_clocks(tb.channels, tb.prog_timing, tb.polling,
+                                                   tb.engine)
         self.master = WishboneMaster(tb.dut, "wb", tb.dut.clk, timeout=self.ACK_TIMEOUT,
                                      signals_dict=dict(self.SIGNALS))
 

@@ -953,6 +953,13 @@ async def reset_mid_traffic(dut):
     tb = await CoreTB(dut, cells=("o2_v18", "o2_v15", "co2")).start()
     d = tb.dut
     await tb.write_fields("POLL_CTRL", 2, CMD=0x44, PAYLOAD=0xAA, INTERVAL_MS=1, EN=1)
+    # every timing register away from its reset value (the reset sweep
+    # must write each back)
+    for ch in range(3):
+        await tb.write_fields("TIMING0", ch, CHARGE_US=7100 + ch, SYNC_US=1050)
+        await tb.write_fields("TIMING1", ch, PREAMBLE_US=2100, EXECUTE_US=4400 + ch)
+        await tb.write_fields("TIMING2", ch, LISTEN_US=3100 + ch, TURNAROUND_US=2100)
+        assert (await tb.fields("TIMING1", ch)).EXECUTE_US == 4400 + ch
     for i in range(12):
         await tb.push(0x42 + i % 3, ch=i % 2, tag=i)
 
@@ -1016,6 +1023,11 @@ async def reset_mid_traffic(dut):
     assert await tb.read("LEVELS") == 0
     assert [len(tb.txns(ch)) for ch in (1, 2)] == n_txns[1:], "a transaction started after reset"
     assert len(tb.txns(0)) == n_txns[0] + 1
+    # ... on the reset's lengths, not the ones written before it
+    t = tb.txns(0)[-1]
+    for got, want in ((t.charge_us, 8000), (t.sync_us, 1000), (t.preamble_us, 2000),
+                      (t.execute_us, 4000), (t.listen_us, 3000)):
+        assert got is not None and abs(got - want) <= 2, (t, want)
     await tb.finish()
 
 
@@ -1201,7 +1213,9 @@ def run_core(testcase, bus, clk_hz=12_000_000, channels=3, fifo_depth=16, env=No
     name = name or core_name(testcase, bus, channels)
     extra = {"TWH_BUS": str(bus), "TWH_CHANNELS": str(channels),
              "TWH_FIFO_DEPTH": str(fifo_depth), "TWH_CLK_HZ": str(clk_hz),
-             "TWH_ENGINE": str((features or {}).get("ENGINE", 1))}
+             "TWH_ENGINE": str((features or {}).get("ENGINE", 1)),
+             "TWH_PROG_TIMING": str((features or {}).get("PROG_TIMING", 1)),
+             "TWH_POLLING": str((features or {}).get("POLLING", 1))}
     extra.update(env or {})
     simrun.run("tb_core", "test_twh_core", name,
                parameters={"CLK_HZ": clk_hz, "CHANNELS": channels,

@@ -3,7 +3,9 @@
 // too big for k-induction. It keeps nothing of the core but the register-port
 // contract stated at the top of rtl/twh_core.v: every request is answered
 // two clocks later with reg_ack (a request stage, then the access), and a
-// reset cancels the answer. Whether the
+// reset cancels the answer; a request is made only while reg_ready, which
+// is left free here (the real core's is 0 for its reset sweep, then 1), and
+// the wrappers' proofs check that they keep to it. Whether the
 // answer is an error, the read data, irq and the pins are left free (anyseq),
 // so the wrapper proofs hold whatever the core decides. That the real core
 // keeps this contract is a proof obligation of its own (phase 2).
@@ -19,6 +21,7 @@ module twh_core #(
 ) (
     input  wire                clk,
     input  wire                rst,
+    output wire                reg_ready,
     input  wire                reg_req,
     input  wire                reg_we,
     input  wire [10:0]         reg_addr,
@@ -32,6 +35,7 @@ module twh_core #(
     output wire [CHANNELS-1:0] line_oe,
     input  wire [CHANNELS-1:0] line_i
 );
+    (* anyseq *) reg                f_ready;
     (* anyseq *) reg                f_err;
     (* anyseq *) reg [31:0]         f_rdata;
     (* anyseq *) reg                f_irq;
@@ -43,6 +47,10 @@ module twh_core #(
         reg_ack <= !rst && q_req;
     end
 
+    // the wrapper's side of the contract
+    always @(*) if (!reg_ready) assert(!reg_req);
+
+    assign reg_ready = f_ready;
     assign reg_err   = f_err;
     assign reg_rdata = f_rdata;
     assign irq       = f_irq;

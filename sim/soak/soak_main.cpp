@@ -288,6 +288,7 @@ private:
     std::unique_ptr<VerilatedContext> ctx_;
     std::unique_ptr<Vsoak_top> top_;
     uint64_t cyc_ = 0;
+    uint64_t reset_cyc_ = 0;        // the clock the last reset ended
     std::vector<std::unique_ptr<soak::Periph>> periph_;
     std::vector<soak::HostMonitor> mon_;
     std::mt19937_64 rng_;
@@ -396,10 +397,22 @@ void Soak::tick() {
     d.eval();
 }
 
+// The clocks after a reset in which the register port takes no request
+// (docs/registers.md, "After a reset"): the reset sweep writes four words a
+// channel, rounded up to a power of two and at least 16, then waits as long
+// again.
+static uint64_t sweep_clocks(unsigned channels) {
+    uint64_t words = 16;
+    while (words < 4ull * channels)
+        words *= 2;
+    return 2 * words;
+}
+
 // One Wishbone classic access: the core takes the strobe at one edge, carries
 // it out at the next and answers (ack or err, registered) until the one after,
-// where the master sees the answer and ends the access (rtl/twh_wb.v); an
-// answer at any other time, or none, is counted as a bus error.
+// where the master sees the answer and ends the access (rtl/twh_wb.v). After a
+// reset the core takes the strobe only once its reset sweep is over; an answer
+// at any other time, or none, is counted as a bus error.
 uint32_t Soak::access(uint32_t off, bool we, uint32_t v) {
     Vsoak_top &d = *top_;
     d.wb_adr_i = static_cast<uint16_t>(off);
@@ -408,9 +421,17 @@ uint32_t Soak::access(uint32_t off, bool we, uint32_t v) {
     d.wb_sel_i = 0xF;
     d.wb_cyc_i = 1;
     d.wb_stb_i = 1;
+    const uint64_t start = cyc_;
+    const uint64_t ready = reset_cyc_ + sweep_clocks(NCH) + 1;
+    const uint64_t wait = ready > start ? ready - start : 0;    // the sweep's part
     tick();
     const bool early = d.wb_ack_o || d.wb_err_o;
     tick();
+    uint64_t n = 2;
+    while (!early && !d.wb_ack_o && !d.wb_err_o && n < 2 + wait) {
+        tick();
+        ++n;
+    }
     const bool ack = d.wb_ack_o, err = d.wb_err_o;
     const uint32_t data = d.wb_dat_o;
     tick();
@@ -423,7 +444,7 @@ uint32_t Soak::access(uint32_t off, bool we, uint32_t v) {
         char buf[96];
         std::snprintf(buf, sizeof buf, "bus %s 0x%03X: %s", we ? "write" : "read", off,
                       early ? "answered one clock after the strobe"
-                      : ack ? "ack and err" : "no answer two clocks after the strobe");
+                      : ack ? "ack and err" : "no answer two clocks after the strobe is taken");
         mismatch(buf);
     } else if (err) {
         ++bus_errors_;
@@ -465,6 +486,7 @@ void Soak::reset_init() {
     d.wb_sel_i = 0xF;
     run_cycles(8);
     d.rst = 0;
+    reset_cyc_ = cyc_;
     tick();
     const int rc = twh_init(&t_, &plat_);
     if (rc != TWH_OK || t_.channels != NCH || t_.clk_khz != SOAK_CLK_HZ / 1000) {
