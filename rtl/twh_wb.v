@@ -77,12 +77,14 @@ module twh_wb #(
     wire f_answer = wb_ack_o || wb_err_o;
     wire f_strobe = wb_cyc_i && wb_stb_i && !f_answer;   // asks, unanswered
     reg  f_past_valid = 1'b0;
-    // clocks the strobe now up has waited unanswered (0: none waiting)
+    // clocks the strobe now up has waited unanswered since the core could
+    // take it (0: none waiting; the core's reset sweep, ready low, does not
+    // count)
     reg  [2:0] f_age = 3'd0;
     always @(posedge clk) begin
         f_past_valid <= 1'b1;
-        if (rst || !f_strobe)  f_age <= 3'd0;
-        else if (f_age != 3'd7) f_age <= f_age + 1'b1;
+        if (rst || !f_strobe)                    f_age <= 3'd0;
+        else if (f_age != 3'd7 && (busy || ready)) f_age <= f_age + 1'b1;
     end
 
     always @(posedge clk) begin
