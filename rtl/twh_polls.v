@@ -17,7 +17,11 @@
 // - A POLL_CTRL write with EN = 0 withdraws the channel's due poll at once,
 //   and its timer restarts at the walker's next step (so polling switched
 //   off and on again polls at the next millisecond, as switched on does).
-//   A write the walker read a moment before is read again (`w_dirty`).
+//   A write the walker read a moment before is read again (`w_dirty`); a
+//   write in the commit's own clock counts as after the commit (the step
+//   keeps the word it read; the write's EN = 0 withdraws what the commit
+//   raises a clock later), so no bus compare reaches the commit's RAM
+//   write enables.
 // - POLL_RESULT is written when a poll's result arrives, with the count
 //   the engine keeps in the channel's state word; a read in the clock of
 //   that write answers the word written.
@@ -140,7 +144,7 @@ module twh_polls #(
         q_tm     <= tm_wd;
         q_reload <= reload;
     end
-    wire commit = w_on && w_s == 2'd2 && !w_dirty && !(wr && wr_ch == w_ch);
+    wire commit = w_on && w_s == 2'd2 && !w_dirty;
     localparam [CW-1:0] LAST = CHANNELS[CW-1:0] - 1'b1;
     reg          set_due;       // raise due a clock after the command is written
     reg [CW-1:0] set_ch;
@@ -179,16 +183,28 @@ module twh_polls #(
     // the commit's writes: the timer, and at a poll falling due (none
     // pending) the command and, a clock later, due
     assign tm_we = commit && !rst && POLLING != 0;
-    assign cm_we = tm_we && q_reload && !due[w_ch];
+    // (due of the walker's channel as it will stand at the commit, taken a
+    // clock ahead: only a poll taken now clears it in between, and nothing
+    // sets it; its multiplexer over the channels was HX8K's 32-channel path
+    // into the command copy's write enable)
+    reg          due_q;
+    always @(posedge clk) due_q <= due[w_ch] && !(p_take && p_ch == w_ch);
+    assign cm_we = tm_we && q_reload && !due_q;
     // a commit's clear of its channel's restart flag, a clock later (so the
     // bus's write compare in front of the commit reaches one flip-flop, not
     // every channel's flag); the walker reads that flag again no sooner than
     // two clocks after
+    // A POLL_CTRL write with EN = 0 to the channel in the commit's own
+    // clock withdraws its due poll and restarts its timer a clock later, so
+    // the commit's own raising of due and clearing of restart give way (the
+    // write's compare reaches these two flip-flops, not the RAMs' write
+    // enables: HX8K's 32-channel and the UP5K's critical path).
     reg          clr_rs;
+    wire         wr_off = wr && wr_ch == w_ch && !wr_data[31];
     always @(posedge clk) begin
-        set_due <= cm_we;
+        set_due <= cm_we && !wr_off;
         set_ch  <= w_ch;
-        clr_rs  <= tm_we;
+        clr_rs  <= tm_we && !wr_off;
     end
 
     genvar n;
@@ -292,6 +308,10 @@ module twh_polls #(
         if (f_ok && POLLING != 0) begin
             // every POLL_CTRL word that polls names a read-only command
             if ((!f_swo || f_swd[f_n]) && g_mem.pc_mem[f_n][31]) assert(f_ro(g_mem.pc_mem[f_n][7:0]));
+            // EN = 0 stored: no poll due or about to fall due (a write with
+            // EN = 0 withdraws it at once, one in the commit's clock too)
+            if ((!f_swo || f_swd[f_n]) && !g_mem.pc_mem[f_n][31])
+                assert(!due[f_n] && !(set_due && set_ch == f_n));
             // nothing walks or falls due before the sweep is over
             if (f_swo) assert(!w_on && due == {CHANNELS{1'b0}} && !set_due);
             // the walker's word is the memory's, unless a write met its read;
@@ -299,6 +319,9 @@ module twh_polls #(
             if (w_on && w_s == 2'd1 && !w_dirty)
                 assert(pc_rd == g_mem.pc_mem[w_ch] && rs_q == restart[w_ch]);
             if (w_on && w_s == 2'd2 && !w_dirty && q_reload && w_ch == f_n) assert(f_ro(q_cmd[7:0]));
+            if (w_on && w_s == 2'd2 && !w_dirty) assert(due_q == due[w_ch]);
+            // (set_due follows a commit by a clock, the walker then reading)
+            if (set_due) assert(!w_on || w_s == 2'd0);
             if (w_on) assert(w_s != 2'd3);
             if (w_on) assert(w_ch < CHANNELS);
             // a due poll's command, and one about to fall due, is read-only

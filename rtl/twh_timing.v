@@ -176,16 +176,19 @@ module twh_timing #(
     end
     generate
         if (CHANNELS > 1) begin : g_stage
+            // the channel's phase (or field) is registered straight off the
+            // channel multiplexer and decoded after it: the multiplexer and
+            // the decode in one clock were HX8K's 32-channel critical path
             reg [4:0] a_ch;
-            reg [2:0] a_fld;
-            reg [1:0] a_reg;
+            reg [2:0] a_nx;
             reg       a_ok;
             always @(posedge clk) begin
                 a_ch  <= f_ch;
-                a_fld <= f_fld;
-                a_reg <= f_reg;
+                a_nx  <= f_nx;
                 a_ok  <= !rst;
             end
+            wire [2:0] a_fld = (NX_PHASE != 0) ? `TWH_FLD_OF(a_nx) : a_nx;
+            wire [1:0] a_reg = (a_fld <= 3'd2) ? 2'd0 : (a_fld <= 3'd4) ? 2'd1 : 2'd2;
             always @(posedge clk)
                 m_rd <= mem[rd ? ra : {a_ch[AW-3:0], a_reg}];
             // (a word read while the sweep writes may not be swept yet:
