@@ -128,8 +128,8 @@ class TwhSoC(SoCCore):
                          integrated_sram_size=0 if spram else sram_size,
                          uart_name="sim" if variant == "sim" else "serial",
                          uart_baudrate=115200,
-                         with_timer=True, timer_uptime=True,
-                         ident="twowire-host LiteX SoC", ident_version=False)
+                         with_timer=True, timer_uptime=False,
+                         with_ctrl=False, ident="", ident_version=False)
         self.crg = _CRG(platform)
         if flash:
             # the firmware executed in place from the board's SPI flash (one

@@ -5,7 +5,9 @@
  *
  * Platform hooks: register accesses are plain loads and stores in the
  * core's Wishbone window (TWH_BASE from LiteX's mem.h); time is the LiteX
- * timer's 64-bit uptime counter; wait_irq waits on the core's interrupt as
+ * timer run free as a 32-bit down-counter, extended to 64 bits here (the
+ * SoC leaves out LiteX's 64-bit uptime counter, docs/soc.md); wait_irq
+ * waits on the core's interrupt as
  * the CPU sees it: the twh line is unmasked in VexRiscv's interrupt mask
  * CSR (0xBC0) and the hook spins on the pending CSR (0xFC0, LiteX irq.h),
  * never on a core register. Counters of how each wait ended are printed at
@@ -25,6 +27,8 @@
 #include "twh_page.h"
 
 #define CYC_PER_US (CONFIG_CLOCK_FREQUENCY / 1000000u)
+/* (the SoC carries no identifier string: LiteX's ident costs 62 LC) */
+#define SOC_NAME "twowire-host LiteX SoC"
 
 /* ------------------------------------------------------------------ UART */
 static int uart_putc(char c, FILE *f)
@@ -53,10 +57,31 @@ void _exit(int code)
 }
 
 /* ------------------------------------------------------------------ time */
+/* timer0 counts down from 0xFFFFFFFF and reloads; each read adds the
+ * cycles since the last one, which is right while reads come less than a
+ * wrap apart (2^32 cycles, 179 s at 24 MHz): every wait reads it in a loop */
+static uint64_t cyc_total;
+static uint32_t cyc_last;
+
+static void time_init(void)
+{
+    timer0_en_write(0);
+    timer0_load_write(0xFFFFFFFFu);
+    timer0_reload_write(0xFFFFFFFFu);
+    timer0_en_write(1);
+    timer0_update_value_write(1);
+    cyc_last = timer0_value_read();
+}
+
 static uint64_t cycles(void)
 {
-    timer0_uptime_latch_write(1);
-    return timer0_uptime_cycles_read();
+    uint32_t v;
+
+    timer0_update_value_write(1);
+    v = timer0_value_read();
+    cyc_total += (uint32_t)(cyc_last - v);
+    cyc_last = v;
+    return cyc_total;
 }
 
 static uint64_t now_us(void *ctx)
@@ -144,18 +169,19 @@ int main(void)
     uint64_t t0;
     int rc;
 
+    time_init();
     o.out = stdout;
     o.err = stderr;
 #ifdef TWH_INTERRUPT
     /* only the core's line: the CPU never takes the interrupt as a trap
      * (mstatus.MIE stays 0), wait_irq reads it from the pending CSR */
     irq_setmask(1u << TWH_INTERRUPT);
-    printf("soc: %s, %s, %lu Hz, twh at 0x%08lX, irq %d\n", CONFIG_IDENTIFIER,
+    printf("soc: %s, %s, %lu Hz, twh at 0x%08lX, irq %d\n", SOC_NAME,
            CONFIG_CPU_HUMAN_NAME, (unsigned long)CONFIG_CLOCK_FREQUENCY,
            (unsigned long)TWH_BASE, TWH_INTERRUPT);
 #else
     printf("soc: %s, %s, %lu Hz, twh at 0x%08lX, no irq (the driver polls)\n",
-           CONFIG_IDENTIFIER, CONFIG_CPU_HUMAN_NAME, (unsigned long)CONFIG_CLOCK_FREQUENCY,
+           SOC_NAME, CONFIG_CPU_HUMAN_NAME, (unsigned long)CONFIG_CLOCK_FREQUENCY,
            (unsigned long)TWH_BASE);
 #endif
     t0 = cycles();
