@@ -31,7 +31,7 @@ from typing import List, Optional
 
 import cocotb
 from cocotb.simtime import get_sim_time
-from cocotb.triggers import Event, Lock, RisingEdge, SimTimeoutError, with_timeout
+from cocotb.triggers import Event, FallingEdge, Lock, RisingEdge, SimTimeoutError, with_timeout
 from cocotb_coverage.coverage import CoverCross, CoverPoint, coverage_db
 
 import periph_model as pm
@@ -453,6 +453,11 @@ class RandomTB(CoreTB):
         while True:
             if not int(d.irq.value):
                 await RisingEdge(d.irq)
+                # irq rises a delta after the clock's edge: which of the two
+                # the simulator reports first differs (Icarus, Verilator), and
+                # with it which waiting agent reaches the bus first; at the
+                # falling edge both agree (tb/coretb.py)
+                await FallingEdge(d.clk)
             r = await self.pop()
             if r is None:
                 continue        # irq falls a clock after the last pop
