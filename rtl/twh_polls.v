@@ -190,11 +190,8 @@ module twh_polls #(
     reg          due_q;
     always @(posedge clk) due_q <= due[w_ch] && !(p_take && p_ch == w_ch);
     assign cm_we = tm_we && q_reload && !due_q;
-    // a commit's clear of its channel's restart flag, a clock later (so the
-    // bus's write compare in front of the commit reaches one flip-flop, not
-    // every channel's flag); the walker reads that flag again no sooner than
-    // two clocks after
-    // A POLL_CTRL write with EN = 0 to the channel in the commit's own
+    // A commit clears its channel's restart flag a clock later (the walker
+    // reads that flag again no sooner than two clocks after). A POLL_CTRL write with EN = 0 to the channel in the commit's own
     // clock withdraws its due poll and restarts its timer a clock later, so
     // the commit's own raising of due and clearing of restart give way (the
     // write's compare reaches these two flip-flops, not the RAMs' write
