@@ -277,7 +277,7 @@ module twh_engine #(
         s0_fv   <= s3_ctl;
     end
     // the channel's control word as its last visit wrote it (the reset
-    // word for a channel not written since reset)
+    // word in the first scan after a reset)
     wire [CTW-1:0] c0 = s0_fwd ? s0_fv : s0_init ? c_rd : CTL_RESET;
 
     // An entry: code, payload (its high byte 0 in a 3-byte command), tag

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The LiteX SoC of the drop-in proof (docs/soc.md): a VexRiscv (variant
-"minimal", RV32I) with integrated ROM and SRAM, LiteX's UART and timer (with
-its uptime counter), and twowire-host with three channels added by
+"minimal", RV32I) with integrated ROM and SRAM, LiteX's UART and timer (no
+uptime counter, ctrl module or identifier: the firmware uses none), and twowire-host with three channels added by
 soc/twh_litex.py.
 
     twh_soc.py --variant sim --out build/soc/sim [--rom fw.bin]
