@@ -19,7 +19,10 @@ FORMAL_JOBS ?= \
     twh_carrier:c27 twh_carrier:c48 twh_carrier:c200 twh_carrier:cover_c13_56 \
     twh_demod:c4 twh_demod:c48 twh_demod:c100 \
     twh_demod:carrier_c4 twh_demod:carrier_c48 twh_demod:carrier_c100 \
-    twh_rx:prove twh_rx:uart \
+    twh_rx:prove twh_rx:uart twh_rx:equiv \
+    twh_engine_pin:c4 twh_engine_pin:c48 twh_engine_pin:c100 \
+    twh_engine_pin:carrier_c4 twh_engine_pin:carrier_c48 twh_engine_pin:carrier_c100 \
+    twh_engine_pin:cover_c4 \
     twh_link:c4 twh_link:c48 twh_link:c13_56 \
     twh_timing:ch1 twh_timing:ch3 twh_timing:ch6 twh_timing:fixed3 \
     twh_channel:prove twh_channel:cover \
@@ -42,6 +45,6 @@ formal: deps
 formal-mutants: deps
 	@mkdir -p build/formal && cat formal/mutants.tsv formal/twh_link_mutants.tsv \
 	    formal/twh_channel_mutants.tsv formal/twh_core_mutants.tsv formal/twh_timing_mutants.tsv \
-	    formal/twh_engine_mutants.tsv formal/twh_polls_mutants.tsv \
+	    formal/twh_engine_mutants.tsv formal/twh_polls_mutants.tsv formal/twh_engine_pin_mutants.tsv \
 	    > build/formal/all_mutants.tsv
 	@JOBS=$(JOBS) bash formal/mutate.sh build/formal/all_mutants.tsv

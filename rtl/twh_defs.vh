@@ -64,6 +64,19 @@
      ((p) == `TWH_PH_PREAMBLE || (p) == `TWH_PH_COMMAND) ? 3'd4 : \
      ((p) == `TWH_PH_EXECUTE) ? 3'd5 : ((p) == `TWH_PH_LISTEN) ? 3'd6 : 3'd1)
 
+// The receiver's fields in its 45-bit word (twh_rx_dec, twh_rx_step; the
+// engine keeps it in its state word's union during listen): bit offsets
+`define TWH_RX_SH  0      // 24: the data bits received, the first in [0]
+`define TWH_RX_SB  24     // 5: ticks into the bit
+`define TWH_RX_MK  29     // 5: consecutive mark ticks (saturates at 16)
+`define TWH_RX_BN  34     // 4: the bit of the character (0 the start bit)
+`define TWH_RX_VT  38     // 2: ones among the bit's samples so far
+`define TWH_RX_NB  40     // 2: characters received
+`define TWH_RX_AC  42     // inside a character
+`define TWH_RX_FE  43     // a framing error ended the answer
+`define TWH_RX_EN  44     // a break ended the answer
+`define TWH_RX_W   45
+
 `define TWH_MAGIC         32'h54574831    // "TWH1"
 `define TWH_VERSION_MAJOR 8'd2
 `define TWH_VERSION_MINOR 8'd0

@@ -159,19 +159,14 @@ module twh_engine #(
     // the transaction is a poll (from its charge to its listen's end); [CT]
     // the channel's count of polls completed.
     localparam integer U0 = 22;
-    localparam integer SH = U0;          // 24: received data bits, first in [7:0]
-    localparam integer SB = U0 + 24;     // 5: ticks into the bit
-    localparam integer MK = U0 + 29;     // 5: consecutive mark ticks (to 16)
-    localparam integer BN = U0 + 34;     // 4: bit of the character (rx and tx)
-    localparam integer VT = U0 + 38;     // 2: ones among the bit's samples
-    localparam integer NB = U0 + 40;     // 2: bytes received; tx: frame byte
-    localparam integer AC = U0 + 42;     // inside a character
-    localparam integer FE = U0 + 43;     // framing error
-    localparam integer EN = U0 + 44;     // the answer ended in a break
-    localparam integer PL = U0 + 45;     // the transaction is a poll (its frame in SH)
+    // (the receiver's fields: twh_defs.vh, TWH_RX_*)
+    localparam integer SH = U0 + `TWH_RX_SH;   // 24: received data bits, first in [7:0]
+    localparam integer BN = U0 + `TWH_RX_BN;   // 4: bit of the character (rx and tx)
+    localparam integer NB = U0 + `TWH_RX_NB;   // 2: bytes received; tx: frame byte
+    localparam integer PL = U0 + `TWH_RX_W;    // the transaction is a poll (its frame in SH)
     localparam integer CT = U0 + 46;     // 12: polls completed (POLL_RESULT.COUNT)
     localparam integer W  = U0 + 58;     // 80: five iCE40 blocks of 16 bits
-    localparam integer UW = 45;          // the union's width
+    localparam integer UW = `TWH_RX_W;   // the union's width: the receiver's word
     localparam integer RS = U0 + 16;     // 4: the waiting result's status (data in U[15:0])
     localparam [W-1:0] W_RESET = {{(W-19){1'b0}}, `TWH_TURNAROUND_MIN + 16'd1, `TWH_PH_IDLE};
 
@@ -346,6 +341,22 @@ module twh_engine #(
     wire [QW:0]   c1_cc  = (fpend[s1_ch] || cancel) ? c1_cnt - {{QW{1'b0}}, s1_c[C_AC]}
                                                     : s1_c[C_CC +: QW+1];
     reg           s2_v, s2_env, s2_ne, s2_last;
+    // the word as read, or the state after reset for a channel not yet
+    // visited since: idle, the minimum turnaround (and one) before a charge
+    wire [W-1:0]  w1 = s1_init ? st_rd : W_RESET;
+    // the receiver's decodes and the answer's verdict, a clock ahead of
+    // the step (off its path); only a word in listen uses them, and that
+    // word is always the RAM's (the reset word is idle)
+    wire [7:0]    d1_rx;
+    wire [3:0]    d1_status;
+    twh_rx_dec u_rdec (.rx(st_rd[U0 +: UW]), .sync_low(st_rd[20]), .pre_high(st_rd[21]),
+                       .dec(d1_rx), .status(d1_status));
+    // (the answer's data is its bytes when OK or BAD_CHECKSUM)
+    wire          d1_ok = (d1_status == `TWH_ST_OK) || (d1_status == `TWH_ST_BAD_CHECKSUM);
+    reg           s2_idle_go;
+    reg [7:0]     s2_rdec;
+    reg [3:0]     s2_status;
+    reg           s2_ok;
     reg [CW-1:0]  s2_ch;
     reg [W-1:0]   s2_w;
     reg [QE-1:0]  s2_q;
@@ -360,9 +371,13 @@ module twh_engine #(
         s2_env  <= s1_env;
         s2_ne   <= c1_cnt != {(QW+1){1'b0}};
         s2_c    <= s1_c;
-        // the word as read, or the state after reset for a channel not yet
-        // visited since: idle, the minimum turnaround (and one) before a charge
-        s2_w    <= s1_init ? st_rd : W_RESET;
+        s2_w    <= w1;
+        s2_rdec <= d1_rx;
+        // an idle channel's last period with no result waiting: it may start
+        s2_idle_go <= s1_init && (st_rd[2:0] == `TWH_PH_IDLE) && (st_rd[18:4] == 15'd0) &&
+                      !st_rd[19];
+        s2_status <= d1_status;
+        s2_ok   <= d1_ok;
         s2_last <= s1_init ? (st_rd[18:4] == 15'd0) : 1'b0;
         s2_q    <= q_rd;
         s2_len  <= t_rd;
@@ -395,74 +410,12 @@ module twh_engine #(
     wire [7:0]       q_chk;
     twh_checksum u_chk (.a(q_code), .b(q_pmsb), .c(q_plsb), .chk(q_chk));
 
-    // receiver fields
-    wire [23:0] r_sh  = w[SH +: 24];
-    wire [4:0]  r_sub = w[SB +: 5];
-    wire [4:0]  r_mk  = w[MK +: 5];
-    wire [3:0]  r_bn  = w[BN +: 4];
-    wire [1:0]  r_vt  = w[VT +: 2];
-    wire [1:0]  r_nb  = w[NB +: 2];
-    wire        r_ac  = w[AC];
-    wire        r_fe  = w[FE];
-    wire        r_en  = w[EN];
-    // a start bit passed its re-check (no bit of its own: a byte came, the
-    // answer ended, or a character is past its start's re-check at 19 us)
-    wire        r_st  = (r_nb != 2'd0) || r_fe || r_en ||
-                        (r_ac && (r_bn != 4'd0 || r_sub >= 5'd20));
-    wire        r_done = (r_nb == 2'd3) || r_fe || r_en;
-
-    // the answer as it stands (twh_link's precedence)
-    wire [7:0] r_chk = ~(r_sh[7:0] + r_sh[15:8]);
-    reg  [3:0] r_status;
-    always @(*) begin
-        if (!w[20])                r_status = `TWH_ST_LINE_STUCK_HIGH;
-        else if (!w[21])           r_status = `TWH_ST_LINE_STUCK_LOW;
-        else if (r_fe)             r_status = `TWH_ST_FRAMING;
-        else if (r_nb == 2'd3)     r_status = (r_chk == r_sh[23:16]) ? `TWH_ST_OK
-                                                                      : `TWH_ST_BAD_CHECKSUM;
-        else if (r_st)             r_status = `TWH_ST_SHORT_RESPONSE;
-        else                       r_status = `TWH_ST_NO_RESPONSE;
-    end
-    wire r_data_ok = (r_status == `TWH_ST_OK) || (r_status == `TWH_ST_BAD_CHECKSUM);
-
-    // the receiver's step (twh_rx, one tick): sample points 11, 15, 19 us
-    // into a bit, the majority of the three, the start re-checked, one
-    // stop bit checked, a break after eight 0 bits ends the answer
-    reg [UW-1:0] rx_n;
-    reg        bit_val;
-    always @(*) begin
-        rx_n    = w[U0 +: UW];
-        bit_val = ({1'b0, r_vt} + {2'b00, env}) >= 3'd2;
-        if (!r_done) begin
-            rx_n[MK-U0 +: 5] = !env ? 5'd0 : (r_mk == 5'd16) ? r_mk : r_mk + 5'd1;
-            if (!r_ac) begin
-                if (!env && (r_nb != 2'd0 || r_mk == 5'd16)) begin
-                    rx_n[AC-U0]       = 1'b1;
-                    rx_n[SB-U0 +: 5]  = 5'd1;
-                    rx_n[BN-U0 +: 4]  = 4'd0;
-                end
-            end else begin
-                rx_n[SB-U0 +: 5] = r_sub + 5'd1;
-                if (r_sub == 5'd31) rx_n[BN-U0 +: 4] = r_bn + 4'd1;
-                if (r_sub == 5'd11 || r_sub == 5'd15)
-                    rx_n[VT-U0 +: 2] = r_vt + {1'b0, env};
-                if (r_sub == 5'd19) begin
-                    rx_n[VT-U0 +: 2] = 2'd0;
-                    if (r_bn == 4'd0) begin
-                        // a false start; else the character goes on
-                        if (bit_val) rx_n[AC-U0] = 1'b0;
-                    end else if (r_bn != 4'd9) begin
-                        rx_n[SH-U0 +: 24] = {bit_val, r_sh[23:1]};
-                    end else begin
-                        rx_n[AC-U0] = 1'b0;
-                        if (bit_val)                  rx_n[NB-U0 +: 2] = r_nb + 2'd1;
-                        else if (r_sh[23:16] == 8'd0) rx_n[EN-U0] = 1'b1;
-                        else                          rx_n[FE-U0] = 1'b1;
-                    end
-                end
-            end
-        end
-    end
+    // the receiver: its fields (data bits at SH) and the answer's verdict
+    wire [15:0] r_sh      = w[SH +: 16];
+    wire [3:0]  r_status  = s2_status;
+    wire        r_data_ok = s2_ok;
+    wire [UW-1:0] rx_n;
+    twh_rx_step u_rstep (.rx(w[U0 +: UW]), .dec(s2_rdec), .env(env), .rx_n(rx_n));
 
     // the result register is free for this visit (a load in flight counts)
     reg  s3_res;
@@ -479,7 +432,7 @@ module twh_engine #(
     wire [15:0]  p_cmd   = s2_pc;
     wire [7:0]   p_chk;
     twh_checksum u_pchk (.a(p_cmd[7:0]), .b(8'd0), .c(p_cmd[15:8]), .chk(p_chk));
-    wire         idle_go = (ph == `TWH_PH_IDLE) && last && !rwait;
+    wire         idle_go = s2_idle_go;      // (ph == IDLE) && last && !rwait, at S1
     wire         start_q = idle_go && !use_poll && cmd_go;    // the head entry starts
     wire         start_p = idle_go && use_poll;               // the poll starts
     wire         poll_end = (ph == `TWH_PH_LISTEN) && last && w[PL];
@@ -773,6 +726,19 @@ module twh_engine #(
     // carrier state its proof excludes
     always @(*) if (f_ticked) assume(f_since <= P[7:0] + 8'd1);
 
+    // the receiver's decodes and verdict the step takes (registered a
+    // clock ahead) are its word's, whenever the word is in listen (the
+    // only phase that reads them; twh_rx:equiv proves the step and the
+    // decodes against twh_rx)
+    wire [7:0] f_rdec;
+    wire [3:0] f_rstatus;
+    twh_rx_dec f_rx_dec (.rx(s2_w[U0 +: UW]), .sync_low(s2_w[20]), .pre_high(s2_w[21]),
+                         .dec(f_rdec), .status(f_rstatus));
+    always @(*)
+        if (f_ok && s2_v && s2_w[2:0] == `TWH_PH_LISTEN)
+            assert(s2_rdec == f_rdec && s2_status == f_rstatus &&
+                   s2_ok == (f_rstatus == `TWH_ST_OK || f_rstatus == `TWH_ST_BAD_CHECKSUM));
+
     // the shadow: the word the tracked channel's last visit wrote
     reg [W-1:0] f_w;
     reg         f_wr;
@@ -844,6 +810,8 @@ module twh_engine #(
             if (s1_v && s1_ch == f_ch) assert(s1_init == f_wr);
             if (s1_v && s1_ch == f_ch && f_wr) assert(st_rd == f_w);
             if (s2_v && s2_ch == f_ch) assert(s2_w == f_cur && s2_last == (f_cur[18:4] == 15'd0));
+            // (taken at S1 from the same word)
+            if (s2_v) assert(s2_idle_go == (s2_w[2:0] == `TWH_PH_IDLE && s2_last && !s2_w[19]));
             // written since reset, or being written: from the first scan's
             // S3 on (f_ch + 4 clocks after the tick: at P = 4 the last
             // channel's falls in the next scan's first clock), so at the

@@ -388,6 +388,83 @@ module twh_rx (
     // the sender model gets going: a start bit accepted after the mark
     always @(*) if (f_ok) cover(started && !done);
 `endif
+
+`ifdef TWH_F_RX_EQUIV
+`include "twh_defs.vh"
+    // The time-shared engine's receiver against this one (task equiv): its
+    // word (twh_defs.vh, TWH_RX_*) stepped by twh_rx_step, with
+    // twh_rx_dec's decodes of it, on every tick with en (the engine steps
+    // it at each of its channel's visits in listen; twh_engine's proof
+    // shows the decodes it takes a clock ahead are the word's), cleared
+    // where this receiver clears, on the same envelope. Its word is
+    // proven to hold this receiver's state field for field, and its
+    // verdict (status, data) to be twh_link's from this receiver's
+    // outputs, so every property above, and task uart's, holds of it.
+    reg  [`TWH_RX_W-1:0] e_w;
+    wire [`TWH_RX_W-1:0] e_n;
+    wire [7:0] e_dec;
+    wire [3:0] e_status;
+    twh_rx_dec  e_d (.rx(e_w), .sync_low(1'b1), .pre_high(1'b1),
+                     .dec(e_dec), .status(e_status));
+    wire       e_ok = (e_status == `TWH_ST_OK) || (e_status == `TWH_ST_BAD_CHECKSUM);
+    twh_rx_step e_s (.rx(e_w), .dec(e_dec), .env(env), .rx_n(e_n));
+    // data bits shifted in since the clear (the engine keeps all 24 in one
+    // shift register, the first at the bottom once three have come)
+    reg  [4:0] f_n;
+    always @(posedge clk) begin
+        if (clr) begin
+            e_w <= {`TWH_RX_W{1'b0}};
+            f_n <= 5'd0;
+        end else if (tick && en) begin
+            e_w <= e_n;
+            if (step && chk_data) f_n <= f_n + 5'd1;
+        end
+    end
+    wire [23:0] e_sh = e_w[`TWH_RX_SH +: 24];
+    // the data bits of the character under way
+    wire [3:0] f_j = active ? ((bitn == 4'd0) ? 4'd0 : (bitn == 4'd9) ? 4'd8 :
+                               bitn - 4'd1 + {3'd0, sub > 5'd19})
+                            : ((frame_err || ended) ? 4'd8 : 4'd0);
+    // twh_link's verdict from this receiver's outputs (line not stuck)
+    reg [3:0] f_status;
+    always @(*) begin
+        if (frame_err)            f_status = `TWH_ST_FRAMING;
+        else if (nbytes == 2'd3)  f_status = (~(bytes[23:16] + bytes[15:8]) == bytes[7:0])
+                                             ? `TWH_ST_OK : `TWH_ST_BAD_CHECKSUM;
+        else if (started)         f_status = `TWH_ST_SHORT_RESPONSE;
+        else                      f_status = `TWH_ST_NO_RESPONSE;
+    end
+    integer k;
+    always @(*) begin
+        if (f_ok) begin
+            // the verdict and the data the engine hands over
+            assert(e_status == f_status);
+            if (e_ok) assert({e_sh[7:0], e_sh[15:8]} == bytes[23:8]);
+            assert(e_dec[0] == done);
+            // field for field
+            assert(e_w[`TWH_RX_NB +: 2] == nbytes);
+            assert(e_w[`TWH_RX_FE] == frame_err);
+            assert(e_w[`TWH_RX_EN] == ended);
+            assert(e_w[`TWH_RX_AC] == active);
+            assert(e_w[`TWH_RX_SB +: 5] == sub);
+            assert(e_w[`TWH_RX_BN +: 4] == bitn);
+            assert(e_w[`TWH_RX_VT +: 2] == votes);
+            assert(e_w[`TWH_RX_MK +: 5] == mark);
+            assert(more == (nbytes != 2'd0));
+            // the shift register: the last eight data bits are this
+            // receiver's sh, each completed character k sits at
+            // 24 - f_n + 8k, and nothing lies below the first bit
+            assert(f_n == {nbytes, 3'd0} + {1'b0, f_j});
+            assert(f_n <= 5'd24);
+            assert(e_sh[23:16] == sh);
+            if (f_n < 5'd24) assert((e_sh & ((24'd1 << (5'd24 - f_n)) - 24'd1)) == 24'd0);
+            for (k = 0; k < 3; k = k + 1)
+                if (k < nbytes)
+                    assert(((e_sh >> (5'd24 - f_n + 5'd8 * k[4:0])) & 24'hFF) ==
+                           ((bytes >> (5'd8 * (nbytes - 2'd1 - k[1:0]))) & 24'hFF));
+        end
+    end
+`endif
 `endif
 endmodule
 `default_nettype wire

@@ -1,0 +1,58 @@
+// What the receiver's step and the answer's verdict read of a receiver
+// word (the layout of twh_defs.vh, TWH_RX_*), decoded a clock before the
+// step: the time-shared engine decodes the word as it leaves the state RAM
+// and registers the flags beside it, so that the step itself is only the
+// multiplexers they select (the receiver's step was the engine's longest
+// path on the ECP5 and the UP5K).
+`default_nettype none
+`include "twh_defs.vh"
+module twh_rx_dec (
+    // verilator lint_off UNUSEDSIGNAL
+    input  wire [`TWH_RX_W-1:0] rx,     // (the votes are the step's alone)
+    // verilator lint_on UNUSEDSIGNAL
+    input  wire       sync_low,   // the line was read low during sync
+    input  wire       pre_high,   // ... and high during preamble
+    // for twh_rx_step: [0] the answer is done (three characters, a framing
+    // error or a break), [1] a start bit may begin (a character came, or
+    // 16 marks), [2] 16 marks, [3] a vote sample (11 or 15 ticks into the
+    // bit), [4] the bit's verdict (19), [5] the bit's last tick (31),
+    // [6] the start bit, [7] the stop bit
+    output wire [7:0] dec,
+    // the answer as it stands, were listen to end now (twh_link's
+    // precedence); its data is the answer's when OK or BAD_CHECKSUM
+    output reg  [3:0] status
+);
+    wire [23:0] sh  = rx[`TWH_RX_SH +: 24];
+    wire [4:0]  sub = rx[`TWH_RX_SB +: 5];
+    wire [4:0]  mk  = rx[`TWH_RX_MK +: 5];
+    wire [3:0]  bn  = rx[`TWH_RX_BN +: 4];
+    wire [1:0]  nb  = rx[`TWH_RX_NB +: 2];
+    wire        ac  = rx[`TWH_RX_AC];
+    wire        fe  = rx[`TWH_RX_FE];
+    wire        en  = rx[`TWH_RX_EN];
+
+    assign dec[0] = (nb == 2'd3) || fe || en;
+    assign dec[1] = (nb != 2'd0) || (mk == 5'd16);
+    assign dec[2] = mk == 5'd16;
+    assign dec[3] = (sub == 5'd11) || (sub == 5'd15);
+    assign dec[4] = sub == 5'd19;
+    assign dec[5] = sub == 5'd31;
+    assign dec[6] = bn == 4'd0;
+    assign dec[7] = bn == 4'd9;
+
+    // a start bit passed its re-check (the word keeps no flag of its own:
+    // a character came, the answer ended, or one is past its start's
+    // re-check at 19 us), which tells a short answer from none
+    wire st = (nb != 2'd0) || fe || en || (ac && (bn != 4'd0 || sub >= 5'd20));
+    wire [7:0] chk;
+    twh_checksum u_chk (.a(sh[7:0]), .b(sh[15:8]), .c(8'd0), .chk(chk));
+    always @(*) begin
+        if (!sync_low)         status = `TWH_ST_LINE_STUCK_HIGH;
+        else if (!pre_high)    status = `TWH_ST_LINE_STUCK_LOW;
+        else if (fe)           status = `TWH_ST_FRAMING;
+        else if (nb == 2'd3)   status = (chk == sh[23:16]) ? `TWH_ST_OK : `TWH_ST_BAD_CHECKSUM;
+        else if (st)           status = `TWH_ST_SHORT_RESPONSE;
+        else                   status = `TWH_ST_NO_RESPONSE;
+    end
+endmodule
+`default_nettype wire
