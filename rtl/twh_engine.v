@@ -312,9 +312,16 @@ module twh_engine #(
             b_e[1:0] <= SK_CANCELLED;
         end
     end
+`ifdef FORMAL
+    wire [QW-1:0] f_qi;         // the tracked channel's tracked entry (below)
+    wire [QE-1:0] f_qm;         // ... as the queue RAM holds it
+`endif
     twh_ram #(.W(QE), .AW(CW + QW), .BLOCK(RAM_BLOCK)) u_queue (
         .clk(clk), .we(s3_v && s3_ins), .waddr({s3_ch, s3_tl}), .wdata(b_e),
         .raddr({s0_ch, c0[C_HD +: QW]}), .rdata(q_rd)
+`ifdef FORMAL
+        , .f_addr({f_ch, f_qi}), .f_data(f_qm)
+`endif
     );
     assign s_cmd_ready = !b_v && !full_m[s_cmd_ch];
 
@@ -701,6 +708,8 @@ module twh_engine #(
     always @(*) assume(tick == f_tick && fall == f_fall);
 
     (* anyconst *) reg [CW-1:0] f_ch;
+    (* anyconst *) reg [QW-1:0] f_qi_c;
+    assign f_qi = f_qi_c;
     always @(*) assume(f_ch < CHANNELS);
     // the queue keeps a skip code in two bits: the core's are these
     always @(*) if (s_cmd_valid) assume(s_cmd_skip == 4'd0 || s_cmd_skip == `TWH_ST_BLOCKED ||
@@ -930,6 +939,148 @@ module twh_engine #(
         // a flush marks a command still waiting for its visit CANCELLED
         if (f_past && f_ok && !rst && $past(cancel && b_v && !rst) && b_v)
             assert(b_e[1:0] == SK_CANCELLED);
+    end
+
+    // What each command's result carries. The queue entry followed is the
+    // tracked channel's entry f_qi (any), as its RAM word holds it (f_qm):
+    // - a command taken is the entry written: code, payload (its high
+    //   byte 0 in a 3-byte command), tag and skip as the port gave them
+    //   (a flush may turn the skip to CANCELLED while it waits);
+    // - the entry read at the head is the RAM's word, and a result handed
+    //   over for it carries its code and tag, in the register a clock on;
+    // - its status: CANCELLED for an entry taken CANCELLED; BLOCKED or
+    //   CANCELLED (a flush) for one taken BLOCKED; for one taken to run, a
+    //   status of the line (OK .. LINE_STUCK_HIGH) or CANCELLED (a flush
+    //   before it started); its data 0 unless OK or BAD_CHECKSUM, and then
+    //   the answer's first byte over its second;
+    // - an entry taken with a skip never reaches the line.
+    wire [7:0]        f_qm_code = f_qm[QE-1 -: 8];
+    wire [TAG_W-1:0]  f_qm_tag  = f_qm[2 +: TAG_W];
+    wire [1:0]        f_qm_sk   = f_qm[1:0];
+    wire              f_at_qi   = (f_head == f_qi);
+    // the entry is queued: within the count from the head
+    wire [QW-1:0]     f_qoff    = f_qi - f_head;
+    wire              f_qin     = {1'b0, f_qoff} < f_qcnt;
+    wire [3:0]        f_rs_n    = s3_word[RS +: 4];
+    wire [3:0]        f_rs      = f_cur[RS +: 4];
+    wire              f_run     = !f_cur[PL] && f_ph != `TWH_PH_IDLE && f_ph != `TWH_PH_TURNAROUND;
+    reg  [QW-1:0]     f_s3_hd;
+    always @(posedge clk) f_s3_hd <= c2_hd;
+    always @(posedge clk) begin
+        if (f_past && f_ok && !rst) begin
+            if ($past(push))
+                assert(b_v && b_ch == $past(s_cmd_ch) &&
+                       b_e == {$past(s_cmd_code),
+                               $past(s_cmd_code[7]) ? $past(s_cmd_payload[15:8]) : 8'd0,
+                               $past(s_cmd_payload[7:0]), $past(s_cmd_tag), $past(push_sk)});
+            else if ($past(b_v) && b_v)
+                assert(b_e[QE-1:2] == $past(b_e[QE-1:2]) &&
+                       (b_e[1:0] == $past(b_e[1:0]) || b_e[1:0] == SK_CANCELLED));
+            // the waiting command goes into the tracked entry unchanged
+            if ($past(s3_v && s3_ins && s3_ch == f_ch && s3_tl == f_qi))
+                assert(f_qm == $past(b_e));
+            // the result of the tracked entry: its code and tag
+            if ($past(s3_v && s3_res && s3_ch == f_ch && f_s3_hd == f_qi)) begin
+                assert(m_res_valid && m_res_ch == f_ch &&
+                       m_res_code == f_qm_code && m_res_tag == f_qm_tag);
+                if (f_qm_sk == SK_CANCELLED) assert(m_res_status == `TWH_ST_CANCELLED);
+                if (f_qm_sk == SK_BLOCKED)   assert(m_res_status == `TWH_ST_BLOCKED ||
+                                                    m_res_status == `TWH_ST_CANCELLED);
+                if (f_qm_sk == SK_NONE)      assert(m_res_status <= `TWH_ST_LINE_STUCK_HIGH ||
+                                                    m_res_status == `TWH_ST_CANCELLED);
+                if (m_res_data != 16'd0) assert(m_res_status == `TWH_ST_OK ||
+                                                m_res_status == `TWH_ST_BAD_CHECKSUM);
+            end
+        end
+    end
+    always @(*) begin
+        if (f_ok && !rst) begin
+            // skips are none, BLOCKED or CANCELLED (two bits, never 3)
+            if (f_qin) assert(f_qm_sk != 2'd3);
+            if (b_v) assert(b_e[1:0] != 2'd3);
+            // the head entry read is the RAM's word
+            if (s2_v && s2_ch == f_ch && s2_c[C_HD +: QW] == f_qi && f_qcnt != {(QW+1){1'b0}})
+                assert(s2_q == f_qm);
+            // a waiting result's status and data (the invariants behind the
+            // result's, above)
+            if (f_cur[19] && f_cur[U0 +: 16] != 16'd0)
+                assert(f_rs == `TWH_ST_OK || f_rs == `TWH_ST_BAD_CHECKSUM);
+            if (f_cur[19] && f_at_qi) begin
+                if (f_qm_sk == SK_CANCELLED) assert(f_rs == `TWH_ST_CANCELLED);
+                if (f_qm_sk == SK_BLOCKED)   assert(f_rs == `TWH_ST_BLOCKED ||
+                                                    f_rs == `TWH_ST_CANCELLED);
+                if (f_qm_sk == SK_NONE)      assert(f_rs <= `TWH_ST_LINE_STUCK_HIGH ||
+                                                    f_rs == `TWH_ST_CANCELLED);
+            end
+            // an entry with a skip never runs: a command's transaction is
+            // always its head's, taken to run
+            if (f_run && f_at_qi) assert(f_qm_sk == SK_NONE);
+        end
+    end
+    // a result of the line carries the answer's bytes, first over second
+    always @(*)
+        if (f_ok && !rst && s3_v && s3_ch == f_ch && f_pre_last && f_oph == `TWH_PH_LISTEN &&
+            !f_pre[PL] && (f_rs_n == `TWH_ST_OK || f_rs_n == `TWH_ST_BAD_CHECKSUM))
+            assert(s3_word[U0 +: 16] == {f_pre[SH +: 8], f_pre[SH + 8 +: 8]});
+
+    // The drive each visit hands the tracked channel's pin for its next
+    // period (twh_engine_pin proves the pin takes it at the tick), by the
+    // phase the visit wrote (twh_link's table, NOTES.md): released in
+    // listen; the carrier in charge, preamble and execute; driven low in
+    // sync and the turnaround; in the command phase the frame's bit (8N2,
+    // start 0, data LSB first, two stop bits 1) of the command's frame:
+    // its code, the payload's high byte in a 4-byte command, its low byte,
+    // and the checksum of the three (NOTES.md); in idle, released, or the
+    // carrier with idle charge once the idle's count is out. After a reset
+    // a channel is idle for the minimum turnaround and one period.
+    reg       f_ich3, f_ich4, f_last4;
+    always @(posedge clk) begin
+        f_ich3  <= cfg_idle_charge[f_ch];
+        f_ich4  <= f_ich3;
+        f_last4 <= s3_last;
+    end
+    wire [7:0] f_e_pm = f_qm[QE-9 -: 8];
+    wire [7:0] f_e_pl = f_qm[QE-17 -: 8];
+    wire [7:0] f_e_ck = ~(f_qm_code + f_e_pm + f_e_pl);
+    wire [1:0] f_nb   = f_cur[NB +: 2];
+    wire [3:0] f_bn   = f_cur[BN +: 4];
+    reg  [7:0] f_byte;
+    always @(*) begin
+        if (f_qm_code[7])
+            f_byte = (f_nb == 2'd0) ? f_qm_code : (f_nb == 2'd1) ? f_e_pm :
+                     (f_nb == 2'd2) ? f_e_pl : f_e_ck;
+        else
+            f_byte = (f_nb == 2'd0) ? f_qm_code : (f_nb == 2'd1) ? f_e_pl : f_e_ck;
+    end
+    // the command phase's periods: 32 a bit, 33 or 44 bits; those spent
+    wire [15:0] f_b32 = f_qm_code[7] ? 16'd1408 : 16'd1056;
+    wire [15:0] f_el  = f_b32 - f_cur[18:3];
+    wire f_bit = (f_bn == 4'd0) ? 1'b0 : (f_bn <= 4'd8) ? f_byte[f_bn - 4'd1] : 1'b1;
+    always @(*) begin
+        if (f_ok && !rst) begin
+            if (!f_wr) assert(f_ph == `TWH_PH_IDLE && f_cur[18:3] == `TWH_TURNAROUND_MIN + 16'd1 &&
+                              !f_cur[19]);
+            if (s4_v && s4_ch == f_ch) begin
+                case (f_ph)
+                    `TWH_PH_LISTEN:     assert(!s4_oe);
+                    `TWH_PH_CHARGE, `TWH_PH_PREAMBLE, `TWH_PH_EXECUTE:
+                                        assert(s4_oe && s4_on);
+                    `TWH_PH_SYNC, `TWH_PH_TURNAROUND:
+                                        assert(s4_oe && !s4_on);
+                    `TWH_PH_COMMAND: begin
+                        assert(s4_oe);
+                        if (!f_cur[PL] && f_at_qi) assert(s4_on == f_bit);
+                    end
+                    default:            assert(s4_oe == (f_ich4 && f_last4) && (!s4_oe || s4_on));
+                endcase
+            end
+            // the frame's bit is the one the periods spent in the command
+            // phase reach: 32 periods a bit, 11 bits a byte
+            if (f_ph == `TWH_PH_COMMAND && !f_cur[PL] && f_at_qi) begin
+                assert(f_cur[18:3] != 16'd0 && f_cur[18:3] <= f_b32);
+                assert({4'd0, f_nb} * 6'd11 + {2'd0, f_bn} == f_el[10:5]);
+            end
+        end
     end
 `endif
 endmodule

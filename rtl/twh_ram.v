@@ -18,13 +18,20 @@ module twh_ram #(
     input  wire [W-1:0]  wdata,
     input  wire [AW-1:0] raddr,
     output reg  [W-1:0]  rdata
+`ifdef FORMAL
+    ,
+    // a proof's view of one word (Yosys takes no hierarchical names): the
+    // engine's proof follows its tracked channel's queue entries with it
+    input  wire [AW-1:0] f_addr,
+    output wire [W-1:0]  f_data
+`endif
 );
     // a read of the word written in the same clock is never used: the
     // engine reads a channel's state word at least four clocks after its
     // write, and its control word, read in its write's clock at a period
     // of four clocks, is then taken from the write (twh_engine's s0_fwd).
-    // Both branches are g_mem, so a proof names a word as g_mem.mem[a]
-    // whichever is built.
+    // Both branches are g_mem, so f_data (a proof's view of one word) is
+    // g_mem.mem[f_addr] whichever is built.
     generate
         if (BLOCK != 0) begin : g_mem
             (* ram_style = "block" *) (* no_rw_check *) reg [W-1:0] mem [0:(1 << AW) - 1];
@@ -40,5 +47,8 @@ module twh_ram #(
             end
         end
     endgenerate
+`ifdef FORMAL
+    assign f_data = g_mem.mem[f_addr];
+`endif
 endmodule
 `default_nettype wire
