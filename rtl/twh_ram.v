@@ -1,7 +1,8 @@
 // Simple dual-port memory: one write port, one read port whose data is
 // registered (block RAM on the iCE40s and the ECP5). Nothing is reset: a
-// user that needs defaults keeps a flag of its own per word (the engine's
-// `init` per channel). BLOCK = 1 asks for block RAM even where Yosys would
+// user that needs defaults writes them (twh_timing's reset sweep) or reads
+// a reset word in their place until it has (the engine's first scan after
+// a reset). BLOCK = 1 asks for block RAM even where Yosys would
 // build a shallow memory of flip-flops (the iCE40s have no LUT RAM, so a
 // 2- or 4-word memory of 68 bits would cost 136 or 272 of them); BLOCK = 0
 // leaves the choice to synthesis (on the ECP5 a shallow memory becomes LUT
