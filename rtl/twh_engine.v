@@ -427,6 +427,18 @@ module twh_engine #(
     // the result register is free for this visit (a load in flight counts)
     reg  s3_res;
     wire res_free = !m_res_valid && !(s3_v && s3_res);
+    // The register's claim: a result handed over stays in it for a clock
+    // or two (S3, then until the result FIFO takes it), so the two
+    // channels visited before a channel can keep it busy at every one of
+    // its visits (two neighbours answering skipped commands, one result
+    // every second visit each). The first channel refused takes the
+    // claim; while it is held no other channel hands over, so it gets the
+    // register at its next visit once the FIFO has room, and gives the
+    // claim back then. Every waiting result is handed over within about
+    // a period a channel while results flow.
+    reg          rc_v;
+    reg [CW-1:0] rc_ch;
+    wire         res_mine = !rc_v || (rc_ch == s2_ch);
 
     // What an idle channel may start (taken at S1, above). The head's skip
     // is CANCELLED while a flush's count is left; a queued command goes
@@ -450,7 +462,7 @@ module twh_engine #(
 
     always @(*) begin
         wn   = w;
-        hand = rwait && res_free;
+        hand = rwait && res_free && res_mine;
         if (hand) wn[19] = 1'b0;
         if (!last) wn[18:3] = cnt - 16'd1;
         case (ph)
@@ -553,6 +565,19 @@ module twh_engine #(
         else if (hand) cn_w[C_AC] = 1'b0;
         if (start_q || start_p) cn_w[C_PF] = start_q;
         cn_w[C_PH +: 3] = wn[2:0];
+    end
+
+    always @(posedge clk) begin
+        if (rst) begin
+            rc_v <= 1'b0;
+        end else if (s2_v) begin
+            if (rc_v && rc_ch == s2_ch && hand) begin
+                rc_v <= 1'b0;
+            end else if (!rc_v && rwait && !hand) begin
+                rc_v  <= 1'b1;
+                rc_ch <= s2_ch;
+            end
+        end
     end
 
     // ------------------------------------------------------------ S3
@@ -1017,6 +1042,20 @@ module twh_engine #(
             if (f_run && f_at_qi) assert(f_qm_sk == SK_NONE);
         end
     end
+    // The register's claim: while a channel holds it no other channel
+    // hands a result over, the holder has a result waiting, and at its
+    // next visit no hand-over is in flight ahead of it, so it gets the
+    // register unless the result FIFO has refused the one in it for a
+    // whole period (every wait for the register is bounded by the FIFO).
+    always @(*) begin
+        if (f_ok && !rst) begin
+            if (rc_v) assert(rc_ch < CHANNELS);
+            if (s2_v && hand && rc_v) assert(rc_ch == s2_ch);
+            if (rc_v && rc_ch == f_ch) assert(f_cur[19]);
+            if (s2_v && s2_ch == f_ch && rc_v && rc_ch == f_ch) assert(!(s3_v && s3_res));
+        end
+    end
+
     // a result of the line carries the answer's bytes, first over second
     always @(*)
         if (f_ok && !rst && s3_v && s3_ch == f_ch && f_pre_last && f_oph == `TWH_PH_LISTEN &&

@@ -295,10 +295,9 @@ async def result_register_fairness(dut):
     however busy its neighbours are: channels 0 and 1 answer a stream of
     skipped (BLOCKED) commands, one result every second visit each, for
     20 ms after channel 2's transaction ends; channel 2's result must come
-    out about when its transaction ends, not when the stream stops.
-    Known to fail (docs/engine.md, "Still to do"): the two neighbours
-    alternate and keep the register from channel 2 for as long as they
-    are fed."""
+    out about when its transaction ends, not when the stream stops (the
+    two neighbours alternate and, without the register's claim, keep it
+    from channel 2 for as long as they are fed)."""
     tb = EngineTB(dut)
     await tb.start()
     await tb.submit(2, p.CMD_FIRMWARE, tag=7)
@@ -413,12 +412,9 @@ def test_engine_3ch(testcase):
     _run(3, 4_000_000, testcase, "verilator")
 
 
-# The result register's fairness: known to fail (docs/engine.md, "Still to
-# do"); strict, so that a fix shows as an unexpected pass here and the mark
-# goes with it
+# the result register's claim: a channel is not kept from it by two busy
+# neighbours
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True,
-                   reason="a channel can be kept from the result register by two busy neighbours")
 def test_engine_3ch_fairness():
     _run(3, 4_000_000, "result_register_fairness", "verilator")
 
