@@ -47,7 +47,9 @@
 //
 // Results. One result register (m_res_*) serves every channel; a channel
 // whose result is ready hands it over at a visit that finds the register
-// free, and keeps it (holding its next charge back) until then.
+// free and no other channel holding the register's claim (the first
+// channel refused takes it), and keeps it (holding its next charge back)
+// until then.
 //
 // Phase lengths (microseconds, already clamped) come from a timing RAM of
 // eight words a channel, read at every visit for the field the channel's
