@@ -317,6 +317,8 @@ module twh_engine #(
 `ifdef FORMAL
     wire [QW-1:0] f_qi;         // the tracked channel's tracked entry (below)
     wire [QE-1:0] f_qm;         // ... as the queue RAM holds it
+    wire [2:0]    f_tf;         // the tracked channel's tracked timing field
+    wire [15:0]   f_tm;         // ... as the timing RAM holds it
 `endif
     twh_ram #(.W(QE), .AW(CW + QW), .BLOCK(RAM_BLOCK)) u_queue (
         .clk(clk), .we(s3_v && s3_ins), .waddr({s3_ch, s3_tl}), .wdata(b_e),
@@ -331,6 +333,9 @@ module twh_engine #(
     twh_ram #(.W(16), .AW(CW + 3), .BLOCK(RAM_BLOCK)) u_timing (
         .clk(clk), .we(t_we), .waddr({t_ch, t_fld}), .wdata(t_len),
         .raddr({s0_ch, fld_of(c0[C_PH +: 3])}), .rdata(t_rd)
+`ifdef FORMAL
+        , .f_addr({f_ch, f_tf}), .f_data(f_tm)
+`endif
     );
 
     // ------------------------------------------------------------ S1, S2
@@ -738,6 +743,9 @@ module twh_engine #(
     (* anyconst *) reg [QW-1:0] f_qi_c;
     assign f_qi = f_qi_c;
     always @(*) assume(f_ch < CHANNELS);
+    // a poll's code is one of 0x40-0x44 (the core refuses any other:
+    // twh_core:port), so its frame is three bytes
+    always @(*) assume(!poll_cmd[7]);
     // the queue keeps a skip code in two bits: the core's are these
     always @(*) if (s_cmd_valid) assume(s_cmd_skip == 4'd0 || s_cmd_skip == `TWH_ST_BLOCKED ||
                                         s_cmd_skip == `TWH_ST_CANCELLED);
@@ -1121,6 +1129,127 @@ module twh_engine #(
                 assert(f_cur[18:3] != 16'd0 && f_cur[18:3] <= f_b32);
                 assert({4'd0, f_nb} * 6'd11 + {2'd0, f_bn} == f_el[10:5]);
             end
+        end
+    end
+
+    // The phase lengths loaded are the ones the port delivered: the timing
+    // RAM's word for (tracked channel, tracked field f_tf, any) is the last
+    // length written for that channel and field, and a visit whose next
+    // phase loads that field reads it (the step loads the word read: above).
+    (* anyconst *) reg [2:0] f_tf_c;
+    assign f_tf = f_tf_c;
+    reg        f_tv;           // a length was delivered for (f_ch, f_tf) since reset
+    reg [15:0] f_tl;           // ... the last one
+    always @(posedge clk) begin
+        if (rst) f_tv <= 1'b0;
+        else if (t_we && t_ch == f_ch && t_fld == f_tf) f_tv <= 1'b1;
+        if (t_we && t_ch == f_ch && t_fld == f_tf) f_tl <= t_len;
+    end
+    // the word as the tracked visit's read found it, carried to S2
+    reg [15:0] f_t1, f_t2;
+    always @(posedge clk) begin
+        f_t1 <= f_tm;
+        f_t2 <= f_t1;
+    end
+    always @(*) begin
+        if (f_ok && !rst) begin
+            if (f_tv) assert(f_tm == f_tl);
+            if (s2_v && s2_ch == f_ch && f_s2_fld == f_tf) assert(s2_len == f_t2);
+        end
+    end
+
+    // What a visit starts (the turn-taking of polls and commands; with the
+    // idle's count and the claim's bound above, a queued command waits at
+    // most one poll's transaction once its channel is idle): the poll
+    // request and command the core gives in the visit's S1 clock, and the
+    // enable in its S2 clock, against what the write holds.
+    reg        f_pr2, f_pr3, f_en3, f_env3;
+    reg [15:0] f_pc2, f_pc3;
+    always @(posedge clk) begin
+        f_pr2  <= poll_req[f_ch];
+        f_pr3  <= f_pr2;
+        f_pc2  <= poll_cmd;
+        f_pc3  <= f_pc2;
+        f_en3  <= enable;
+        f_env3 <= s2_env;
+    end
+    wire       f_go    = f_oph == `TWH_PH_IDLE && f_pre_last && !f_pre[19];
+    wire       f_qsk   = f_at_qi && f_qm_sk != SK_NONE;     // the head is a skipped command
+    wire       f_cmdw  = f_qcnt != {(QW+1){1'b0}} && (f_en3 || f_qsk);
+    wire       f_pollw = f_pr3 && f_en3;
+    wire       f_pref  = f_cc[C_PF];
+    wire       f_s_cmd = s3_ctl[C_AC] && !f_act;              // the head started
+    wire       f_s_pol = s3_word[PL] && !f_pre[PL];           // a poll started
+    // the frame a poll started now sends: its code, payload and checksum
+    wire [7:0] f_pck   = ~(f_pc3[7:0] + f_pc3[15:8]);
+    reg [23:0] f_pfr;
+    always @(posedge clk)
+        if (s3_v && s3_ch == f_ch && f_s_pol) f_pfr <= {f_pck, f_pc3[15:8], f_pc3[7:0]};
+    always @(*) begin
+        if (f_ok && !rst && s3_v && s3_ch == f_ch) begin
+            // a start only at an idle's end with no result waiting
+            if (!f_go) assert(!f_s_cmd && !f_s_pol);
+            if (f_go) begin
+                // a due poll goes on its turn or when no command can; a
+                // command that can go goes otherwise
+                if (f_pollw && (f_pref || !f_cmdw)) assert(f_s_pol && f_nph == `TWH_PH_CHARGE);
+                if (f_cmdw && !(f_pollw && f_pref)) assert(f_s_cmd);
+                if (!f_pollw) assert(!f_s_pol);
+                // ... and the turn passes: a poll next after a command, a
+                // command next after a poll
+                if (f_s_cmd) assert(s3_ctl[C_PF]);
+                if (f_s_pol) assert(!s3_ctl[C_PF]);
+                if (f_s_pol) assert(s3_word[SH +: 24] == {f_pck, f_pc3[15:8], f_pc3[7:0]});
+            end
+            if (!f_s_cmd && !f_s_pol) assert(s3_ctl[C_PF] == f_pref);
+        end
+    end
+
+    // A poll's frame stays in its word until the command phase has sent it,
+    // and each period of that phase drives its bit (as for a command, a
+    // 3-byte frame: code, payload, checksum, 8N2)
+    wire [7:0] f_pby = (f_nb == 2'd0) ? f_pfr[7:0] : (f_nb == 2'd1) ? f_pfr[15:8] : f_pfr[23:16];
+    wire [15:0] f_pel = 16'd1056 - f_cur[18:3];
+    wire f_pbit = (f_bn == 4'd0) ? 1'b0 : (f_bn <= 4'd8) ? f_pby[f_bn - 4'd1] : 1'b1;
+    always @(*) begin
+        if (f_ok && !rst && f_cur[PL] && f_ph != `TWH_PH_EXECUTE && f_ph != `TWH_PH_LISTEN) begin
+            assert(f_cur[SH +: 24] == f_pfr);
+            assert(!f_pfr[7] && f_pfr[23:16] == ~(f_pfr[7:0] + f_pfr[15:8]));
+            if (f_ph == `TWH_PH_COMMAND) begin
+                assert(f_cur[18:3] != 16'd0 && f_cur[18:3] <= 16'd1056);
+                assert({4'd0, f_nb} * 6'd11 + {2'd0, f_bn} == f_pel[10:5]);
+                if (s4_v && s4_ch == f_ch) assert(s4_on == f_pbit);
+            end
+        end
+    end
+
+    // The line's two checks before the answer: the sync's "read low" and the
+    // preamble's "read high" are cleared at a transaction's start, each set
+    // only by a visit in its own phase that saw the line so, and kept to
+    // the listen's end, where they come before the answer's own verdict
+    // (twh_link's precedence: stuck high, then stuck low; the rest is the
+    // receiver's, twh_rx:equiv).
+    always @(*) begin
+        if (f_ok && !rst && s3_v && s3_ch == f_ch) begin
+            if (f_nph == `TWH_PH_CHARGE && f_oph == `TWH_PH_IDLE) assert(s3_word[21:20] == 2'b00);
+            else if (f_oph == `TWH_PH_SYNC)
+                assert(s3_word[20] == (f_pre[20] || !f_env3) && s3_word[21] == f_pre[21]);
+            else if (f_oph == `TWH_PH_PREAMBLE)
+                assert(s3_word[21] == (f_pre[21] || f_env3) && s3_word[20] == f_pre[20]);
+            else
+                assert(s3_word[21:20] == f_pre[21:20]);
+            if (f_oph == `TWH_PH_LISTEN && f_pre_last) begin
+                if (!f_pre[20]) assert(p_status == `TWH_ST_LINE_STUCK_HIGH);
+                else if (!f_pre[21]) assert(p_status == `TWH_ST_LINE_STUCK_LOW);
+                else assert(p_status != `TWH_ST_LINE_STUCK_HIGH &&
+                            p_status != `TWH_ST_LINE_STUCK_LOW);
+                if (!f_pre[PL]) assert(f_rs_n == p_status && s3_word[19]);
+            end
+        end
+        // a charge has both clear, a sync only its own
+        if (f_ok && !rst) begin
+            if (f_ph == `TWH_PH_CHARGE) assert(f_cur[21:20] == 2'b00);
+            if (f_ph == `TWH_PH_SYNC)   assert(!f_cur[21]);
         end
     end
 `endif
