@@ -56,8 +56,9 @@
 // next programmable phase needs (from its phase, kept per channel in
 // flip-flops, `ph_q`, which is also the `phase` output).
 //
-// Phases, line drive and the receiver's rules are twh_link's and twh_rx's
-// (codes in twh_defs.vh).
+// Phases and line drive follow the spec's table and NOTES.md (codes in
+// twh_defs.vh); the receiver's step is proven equal to formal/twh_rx.v,
+// the reference model (twh_rx:equiv).
 `default_nettype none
 `include "twh_defs.vh"
 module twh_engine #(
@@ -620,7 +621,7 @@ module twh_engine #(
         p_count   <= w[CT +: 12] + 12'd1;
     end
 
-    // S3: the drive for the next period, from the new word (twh_link's):
+    // S3: the drive for the next period, from the new word (NOTES.md):
     // the idle carrier only once the idle's count is out; the command
     // phase's bit from the queue's bytes
     wire [2:0] n_ph = s3_word[2:0];
@@ -731,7 +732,7 @@ module twh_engine #(
 `ifdef FORMAL
     // One tracked channel (any), with a shadow of its state word, its
     // timing field and its queue: the RAM's word for it is always the last
-    // one its visit wrote, and its step keeps twh_link's rules.
+    // one its visit wrote, and its step keeps the spec's rules.
     reg f_ok = 1'b0;
     always @(posedge clk) if (rst) f_ok <= 1'b1;
     wire f_tick, f_tick_nx, f_fall;
@@ -801,7 +802,8 @@ module twh_engine #(
     wire [CTW-1:0] f_cc = f_wr ? f_c : CTL_RESET;
     wire [2:0]   f_ph  = f_cur[2:0];
 
-    // the field each phase's successor loads (twh_link's fld_next)
+    // the field each phase's successor loads (written out here, not
+    // twh_defs.vh's TWH_FLD_OF, which the RTL uses)
     function [2:0] f_fld;
         input [2:0] ph_i;
         case (ph_i)
@@ -941,6 +943,9 @@ module twh_engine #(
             end
             if (f_pre_last && f_oph == `TWH_PH_IDLE)
                 assert(f_nph == `TWH_PH_IDLE || f_nph == `TWH_PH_CHARGE);
+            // the receiver starts each listen from its cleared word
+            // (twh_rx:equiv's starting point)
+            if (f_pre_last && f_oph == `TWH_PH_EXECUTE) assert(s3_word[U0 +: UW] == {UW{1'b0}});
             // a result is handed over exactly when one waits and the
             // register is free, and it pops the queue
             if (s3_res) assert(f_pre[19]);
@@ -971,6 +976,11 @@ module twh_engine #(
     always @(posedge clk) begin
         if (f_past && f_ok && !rst && $past(m_res_valid && !m_res_ready))
             assert(m_res_valid && $stable({m_res_ch, m_res_code, m_res_data, m_res_status, m_res_tag}));
+        // ... and is loaded only by a hand-over: once taken it is empty
+        // until the next (no result goes out twice)
+        if (f_past && f_ok && !rst && !$past(s3_v && s3_res) &&
+            (!$past(m_res_valid) || $past(m_res_ready)))
+            assert(!m_res_valid);
         // a flush marks a command still waiting for its visit CANCELLED
         if (f_past && f_ok && !rst && $past(cancel && b_v && !rst) && b_v)
             assert(b_e[1:0] == SK_CANCELLED);
@@ -1074,7 +1084,7 @@ module twh_engine #(
 
     // The drive each visit hands the tracked channel's pin for its next
     // period (twh_engine_pin proves the pin takes it at the tick), by the
-    // phase the visit wrote (twh_link's table, NOTES.md): released in
+    // phase the visit wrote (NOTES.md's table): released in
     // listen; the carrier in charge, preamble and execute; driven low in
     // sync and the turnaround; in the command phase the frame's bit (8N2,
     // start 0, data LSB first, two stop bits 1) of the command's frame:
@@ -1227,7 +1237,7 @@ module twh_engine #(
     // preamble's "read high" are cleared at a transaction's start, each set
     // only by a visit in its own phase that saw the line so, and kept to
     // the listen's end, where they come before the answer's own verdict
-    // (twh_link's precedence: stuck high, then stuck low; the rest is the
+    // (stuck high, then stuck low: docs/protocol.md's precedence; the rest is the
     // receiver's, twh_rx:equiv).
     always @(*) begin
         if (f_ok && !rst && s3_v && s3_ch == f_ch) begin
@@ -1244,6 +1254,18 @@ module twh_engine #(
                 else assert(p_status != `TWH_ST_LINE_STUCK_HIGH &&
                             p_status != `TWH_ST_LINE_STUCK_LOW);
                 if (!f_pre[PL]) assert(f_rs_n == p_status && s3_word[19]);
+            end
+            // a poll's start and end, and only a poll's, go to the pollers
+            // (POLL_RESULT): its status as above, data only with OK or
+            // BAD_CHECKSUM, the channel's count of polls one more
+            assert(p_take == f_s_pol && p_ch == f_ch);
+            assert(p_res == (f_oph == `TWH_PH_LISTEN && f_pre_last && f_pre[PL]));
+            if (p_res) begin
+                if (p_data != 16'd0) assert(p_status == `TWH_ST_OK ||
+                                            p_status == `TWH_ST_BAD_CHECKSUM);
+                assert(p_count == f_pre[CT +: 12] + 12'd1 && s3_word[CT +: 12] == p_count);
+            end else begin
+                assert(s3_word[CT +: 12] == f_pre[CT +: 12]);
             end
         end
         // a charge has both clear, a sync only its own
