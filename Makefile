@@ -6,7 +6,9 @@ SHELL  := /bin/bash
 PY     := .venv/bin/python
 RTL    := $(sort $(wildcard rtl/*.v))
 JOBS   ?= 2
-# the clocks the engine is linted at: each one elaborates different logic
+# the clocks the engine is linted at with one channel (the link's bench,
+# tb/tb_link.v): each one elaborates different logic (the carrier's period
+# and stretch, the pin's glitch filter)
 LINT_CLOCKS := 4000000 10500000 12000000 27000000 48000000 100000000 200000000
 
 # Each flow beside the core (synthesis, formal, fuzzing, soak, board tops) has
@@ -45,8 +47,8 @@ deps: .venv/.requirements.stamp
 
 lint: deps
 	@set -e; for clk in $(LINT_CLOCKS); do \
-	    echo "verilator -Wall twh_link CLK_HZ=$$clk"; \
-	    verilator --lint-only -Wall -Irtl $(RTL) --top-module twh_link -GCLK_HZ=$$clk; \
+	    echo "verilator -Wall twh_engine CLK_HZ=$$clk CHANNELS=1"; \
+	    verilator --lint-only -Wall -Irtl $(RTL) --top-module twh_engine -GCLK_HZ=$$clk -GCHANNELS=1; \
 	done
 	@set -e; for top in twh_wb twh_axil; do for ch in 1 3 8 16 32; do \
 	    echo "verilator -Wall $$top CHANNELS=$$ch"; \
@@ -57,26 +59,20 @@ lint: deps
 	    verilator --lint-only -Wall -Irtl $(RTL) --top-module $$top -GCHANNELS=$$ch \
 	        -GPROG_TIMING=0 -GPOLLING=0; \
 	done; done
-	@set -e; for top in twh_wb twh_axil; do for ch in 1 8; do \
-	    echo "verilator -Wall $$top CHANNELS=$$ch ENGINE=0 (and lean)"; \
-	    verilator --lint-only -Wall -Irtl $(RTL) --top-module $$top -GCHANNELS=$$ch -GENGINE=0; \
-	    verilator --lint-only -Wall -Irtl $(RTL) --top-module $$top -GCHANNELS=$$ch -GENGINE=0 \
-	        -GPROG_TIMING=0 -GPOLLING=0; \
-	done; done
 	@set -e; for cfg in 4000000:1 4000000:3 10500000:5 12000000:8 16000000:16 32000000:32 48000000:32; do \
 	    echo "verilator -Wall twh_engine CLK_HZ=$${cfg%%:*} CHANNELS=$${cfg#*:}"; \
 	    verilator --lint-only -Wall -Irtl $(RTL) --top-module twh_engine \
 	        -GCLK_HZ=$${cfg%%:*} -GCHANNELS=$${cfg#*:}; \
 	done
 	@mkdir -p build/lint
-	@# the four Yosys checks two at a time (each is one process), each into
+	@# the three Yosys checks two at a time (each is one process), each into
 	@# its log; a failed run stops at its wait, a warning at the grep after
 	@set -e; run() { yosys -q -l build/lint/yosys_$$1.log -p "read_verilog -Irtl $(RTL); $$2 synth_ice40 -top $$3; check -assert" >/dev/null; }; \
 	echo "yosys: synth_ice40 twh_wb, twh_axil"; \
 	run twh_wb "" twh_wb & p1=$$!; run twh_axil "" twh_axil & p2=$$!; wait $$p1; wait $$p2; \
-	echo "yosys: synth_ice40 twh_engine, twh_wb ENGINE=0"; \
-	run twh_engine "" twh_engine & p1=$$!; run twh_wb_engine0 "chparam -set ENGINE 0 -set CHANNELS 3 twh_wb;" twh_wb & p2=$$!; wait $$p1; wait $$p2; \
-	for log in twh_wb twh_axil twh_engine twh_wb_engine0; do \
+	echo "yosys: synth_ice40 twh_engine"; \
+	run twh_engine "" twh_engine; \
+	for log in twh_wb twh_axil twh_engine; do \
 	    ! grep -E "^Warning" build/lint/yosys_$$log.log || (echo "yosys warnings above ($$log)" && false); \
 	done
 	@echo "lint clean"

@@ -8,7 +8,7 @@
 #
 # A job is <formal/*.sby without .sby>:<task>. Properties live in the RTL
 # under `ifdef FORMAL`; the .sby files pick module, parameters and mode.
-# Phase 2 (twh_link, twh_channel, twh_core) adds its .sby files and jobs here.
+# Phase 2 (twh_core, the engine's jobs) adds its .sby files and jobs here.
 
 FORMAL_JOBS ?= \
     twh_sync2:prove twh_window:prove \
@@ -17,17 +17,12 @@ FORMAL_JOBS ?= \
     twh_axil:prove twh_axil:cover \
     twh_carrier:c4 twh_carrier:c5 twh_carrier:c10_5 twh_carrier:c13_56 \
     twh_carrier:c27 twh_carrier:c48 twh_carrier:c200 twh_carrier:cover_c13_56 \
-    twh_demod:c4 twh_demod:c48 twh_demod:c100 \
-    twh_demod:carrier_c4 twh_demod:carrier_c48 twh_demod:carrier_c100 \
     twh_rx:prove twh_rx:uart twh_rx:equiv \
     twh_engine_pin:c4 twh_engine_pin:c48 twh_engine_pin:c100 \
     twh_engine_pin:carrier_c4 twh_engine_pin:carrier_c48 twh_engine_pin:carrier_c100 \
     twh_engine_pin:cover_c4 \
-    twh_link:c4 twh_link:c48 twh_link:c13_56 \
     twh_timing:ch1 twh_timing:ch3 twh_timing:ch6 twh_timing:fixed3 \
-    twh_channel:prove twh_channel:cover \
     twh_core:port twh_core:eng1 twh_core:eng2 twh_core:cover_eng2 \
-    twh_core:ch1 twh_core:ch2 twh_core:cover_ch2 \
     twh_engine:ch1 twh_engine:ch2 twh_engine:ch3 \
     twh_polls:ch2 twh_polls:ch3 twh_polls:cover3
 
@@ -43,8 +38,8 @@ formal: deps
 # (JOBS mutants at a time, one core each; time in docs/formal.md).
 .PHONY: formal-mutants
 formal-mutants: deps
-	@mkdir -p build/formal && cat formal/mutants.tsv formal/twh_link_mutants.tsv \
-	    formal/twh_channel_mutants.tsv formal/twh_core_mutants.tsv formal/twh_timing_mutants.tsv \
+	@mkdir -p build/formal && cat formal/mutants.tsv \
+	    formal/twh_core_mutants.tsv formal/twh_timing_mutants.tsv \
 	    formal/twh_engine_mutants.tsv formal/twh_polls_mutants.tsv formal/twh_engine_pin_mutants.tsv \
 	    > build/formal/all_mutants.tsv
 	@JOBS=$(JOBS) bash formal/mutate.sh build/formal/all_mutants.tsv

@@ -2,8 +2,7 @@
 // command FIFO and result FIFO, and the registers of rdl/twh_regs.rdl behind
 // a simple pipelined register port that the Wishbone (twh_wb) and AXI4-Lite
 // (twh_axil) wrappers drive. The channels are the time-shared engine
-// (ENGINE = 1, twh_core_engine: every channel's state in RAM, docs/engine.md)
-// or, while issue 34 keeps the switch, one twh_channel each (ENGINE = 0).
+// (twh_core_engine: every channel's state in RAM, docs/engine.md).
 //
 // Register port: a request (reg_req, with reg_we, reg_addr, reg_wdata,
 // reg_wstrb) is taken into a register stage, carried out on the next clock
@@ -26,14 +25,12 @@
 // a push into the full command FIFO, a push for an absent channel.
 //
 // Dispatch: the command FIFO's head moves on into its channel when the
-// channel can take it: its queue of four is not full (ENGINE = 1), its
-// one-entry slot is free (ENGINE = 0). A head waiting for a channel that
-// cannot take it holds back the commands behind it; with the queues that
-// happens only beyond four commands for one channel.
-// Results: the engine's result register (ENGINE = 1), or one channel at a
-// time offered the result FIFO in turn (ENGINE = 0, a scan, not a
-// priority), so every channel gets its turn; a full FIFO holds the channels
-// back and no result is ever dropped.
+// channel can take it: its queue of four is not full. A head waiting for a
+// channel that cannot take it holds back the commands behind it; with the
+// queues that happens only beyond four commands for one channel.
+// Results: the engine's result register, whose claim gives every channel
+// its turn (docs/engine.md); a full FIFO holds the channels back and no
+// result is ever dropped.
 `default_nettype none
 `include "twh_defs.vh"
 module twh_core #(
@@ -45,12 +42,9 @@ module twh_core #(
     // feature are read-only and say so in VERSION.
     parameter integer PROG_TIMING = 1,   // 0: TIMING0-2 fixed at the defaults, writes refused
     parameter integer POLLING     = 1,   // 0: no poller; POLL_CTRL writes with EN = 1 refused
-    // The channels' engine (docs/engine.md; issue 34 moves the core onto the
-    // second for good): 0, one twh_channel (twh_link) a channel in
-    // flip-flops; 1, the time-shared twh_engine, every channel's state in
-    // RAM, a queue of four commands a channel behind the command FIFO.
-    parameter integer ENGINE      = 1,
-    // ENGINE = 1: 1 keeps the engine's memories (state, queues, phase
+    // The channels run on the time-shared twh_engine (docs/engine.md), every
+    // channel's state in RAM, a queue of four commands a channel behind the
+    // command FIFO. 1 keeps the engine's memories (state, queues, phase
     // lengths) in block RAM on every part, as the iCE40s need (no LUT RAM:
     // a shallow memory would become flip-flops); 0 leaves the choice to
     // synthesis, which on the ECP5 takes LUT RAM while they are shallow,
@@ -84,34 +78,24 @@ module twh_core #(
     // (tb/test_params.py reads them and checks that they agree).
     localparam integer CHANNELS_MIN   = 1;
     localparam integer CHANNELS_MAX   = 32;
-    localparam integer CHANNELS_ENGINE0_MAX = 8;    // ENGINE = 0: 1-8
     localparam integer FIFO_DEPTH_MIN = 2;      // and a power of two
     localparam integer FIFO_DEPTH_MAX = 2048;
-    localparam integer ENGINE_MAX     = 1;      // ENGINE: 0 or 1
     localparam CHANNELS_OK   = CHANNELS >= CHANNELS_MIN && CHANNELS <= CHANNELS_MAX;
     localparam FIFO_DEPTH_OK = FIFO_DEPTH >= FIFO_DEPTH_MIN && FIFO_DEPTH <= FIFO_DEPTH_MAX &&
                                (FIFO_DEPTH & (FIFO_DEPTH - 1)) == 0;
-    localparam ENGINE_OK     = ENGINE >= 0 && ENGINE <= ENGINE_MAX;
-    localparam CHANNELS_ENGINE0_OK = ENGINE != 0 || CHANNELS <= CHANNELS_ENGINE0_MAX;
     generate
         if (!CHANNELS_OK) begin : g_bad_channels
             twh_error_CHANNELS_must_be_1_to_32 u_err ();
-        end else if (!CHANNELS_ENGINE0_OK) begin : g_bad_channels0
-            twh_error_CHANNELS_must_be_1_to_8_with_ENGINE_0 u_err ();
         end
         if (!FIFO_DEPTH_OK) begin : g_bad_depth
             twh_error_FIFO_DEPTH_must_be_a_power_of_two_2_to_2048 u_err ();
-        end
-        if (!ENGINE_OK) begin : g_bad_engine
-            twh_error_ENGINE_must_be_0_or_1 u_err ();
         end
     endgenerate
     // What the submodules are built with: the parameter, or after a failed
     // check a legal stand-in, so that no tool breaks on the bad value (a
     // memory or index out of range) before it reports the missing module.
-    localparam integer CH_N    = (CHANNELS_OK && CHANNELS_ENGINE0_OK) ? CHANNELS : 1;
+    localparam integer CH_N    = CHANNELS_OK ? CHANNELS : 1;
     localparam integer DEPTH_N = FIFO_DEPTH_OK ? FIFO_DEPTH : 16;
-    localparam integer ENGINE_N = ENGINE_OK ? ENGINE : 1;
 
     localparam integer LW = $clog2(DEPTH_N + 1);
     localparam [5:0]  CH_COUNT = CHANNELS[5:0];
@@ -128,7 +112,7 @@ module twh_core #(
     wire us_tick, us_tick_nx, us_fall;
     // (the engine's clock floor is checked here too, after the carrier's own
     // checks, so that a bad clock names one error)
-    twh_carrier #(.CLK_HZ(CLK_HZ), .FLOOR_CHANNELS(ENGINE_N != 0 ? CH_N : 0)) u_tick (
+    twh_carrier #(.CLK_HZ(CLK_HZ), .FLOOR_CHANNELS(CH_N)) u_tick (
         .clk(clk), .rst(rst), .tick(us_tick), .tick_nx(us_tick_nx), .fall(us_fall)
     );
     reg [9:0] us_count;
@@ -156,8 +140,8 @@ module twh_core #(
     // applied after the stage):
     // - i_cmp: where the two fields of a timing value lie against the spec
     //   windows of the channel register addressed (TIMING0-2), one shared
-    //   checker whose constants the address picks; the channel keeps the
-    //   flags with the value and its engine clamps by them;
+    //   checker whose constants the address picks; twh_timing keeps the
+    //   flags with the value and clamps by them;
     // - i_win_p: a POLL_CTRL value switches polling off or names a
     //   read-only command;
     // - the two unlock keys; the factory-area rule of a command word.
@@ -200,7 +184,6 @@ module twh_core #(
     // a CMD_PUSH write in the channel array (CH[0] to CH[31]), the channel
     // present or not (an absent one's is BAD_CHANNEL)
     wire       i_push   = i_wr && i_is_ch && !i_blk[5] && reg_addr[4:2] == C_CMD_PUSH;
-    integer    i_n;
     // The request's data loads only around a request (this one, or the
     // clock after one); between requests its strobes are 0 and the data is
     // unused. Icarus runs every clocked block on every clock, and the idle
@@ -215,13 +198,10 @@ module twh_core #(
     reg        q_r_id, q_r_version, q_r_params, q_r_ctrl, q_r_status, q_r_levels,
                q_r_errors, q_r_irq_en, q_r_irq_status, q_r_poll_ready, q_r_res_info,
                q_r_res_pop, q_r_idle, q_r_busy;
-    // channel n's register 3 + k (POLL_CTRL, POLL_RESULT, STATE) read: one
-    // flag per pair, so each term of the read is one select and one
-    // register bit; TIMING0-2 of every channel come from twh_timing (q_r_t)
-    reg [CHANNELS*3-1:0] q_r_cr;
+    // TIMING0-2 of an existing channel read, from twh_timing's memory
     reg        q_r_t;
-    // ENGINE = 1: POLL_CTRL / POLL_RESULT / STATE of an existing channel read, from
-    // twh_polls' memories (ENGINE = 0 reads them through q_r_cr)
+    // POLL_CTRL / POLL_RESULT / STATE of an existing channel read, from
+    // twh_polls' memories and the engine's copies (twh_core_engine)
     reg        q_r_pc, q_r_pr, q_r_st;
     reg        q_cmp_nz;         // ... not all zero: a field lies outside its window
     reg        q_win_p;          // i_win_p of the request
@@ -233,7 +213,6 @@ module twh_core #(
     reg        q_wr_t, q_ref_p;
     reg [3:0]  q_cmp;            // i_cmp of the request: stored with a timing value
     reg        q_wp;             // POLL_CTRL of an existing channel addressed
-    reg [CHANNELS-1:0] q_ch;     // a write to this channel's block (one-hot)
     reg        q_ctrl, q_flush, q_errors, q_irq_en, q_poll_ready, q_push, q_pop, q_lab_key, q_fact_key,
                q_idle;
     reg        q_push_ch;        // q_push naming an existing channel: the FIFO's push
@@ -272,7 +251,6 @@ module twh_core #(
         if (rst || !reg_req) begin
             q_req <= 1'b0; q_wr <= 1'b0; q_rd <= 1'b0;
             q_wr_t <= 1'b0; q_r_t <= 1'b0; q_ref_p <= 1'b0; q_r_pc <= 1'b0; q_r_pr <= 1'b0; q_r_st <= 1'b0;
-            q_ch <= {CHANNELS{1'b0}}; q_r_cr <= {(CHANNELS*3){1'b0}};
             q_r_id <= 1'b0; q_r_version <= 1'b0; q_r_params <= 1'b0; q_r_ctrl <= 1'b0;
             q_r_status <= 1'b0; q_r_levels <= 1'b0; q_r_errors <= 1'b0; q_r_irq_en <= 1'b0;
             q_r_irq_status <= 1'b0; q_r_poll_ready <= 1'b0; q_r_res_info <= 1'b0;
@@ -286,21 +264,10 @@ module twh_core #(
             q_rd       <= i_rd;
             q_wr_t     <= i_wr && i_ch_ok && reg_addr[4:2] <= 3'd2;
             q_r_t      <= i_rd && i_ch_ok && reg_addr[4:2] <= 3'd2;
-            q_r_pc     <= i_rd && i_ch_ok && reg_addr[4:2] == 3'd3 && ENGINE_N != 0;
-            q_r_pr     <= i_rd && i_ch_ok && reg_addr[4:2] == 3'd4 && ENGINE_N != 0;
-            q_r_st     <= i_rd && i_ch_ok && reg_addr[4:2] == 3'd5 && ENGINE_N != 0;
+            q_r_pc     <= i_rd && i_ch_ok && reg_addr[4:2] == 3'd3;
+            q_r_pr     <= i_rd && i_ch_ok && reg_addr[4:2] == 3'd4;
+            q_r_st     <= i_rd && i_ch_ok && reg_addr[4:2] == 3'd5;
             q_ref_p    <= i_wr && i_ch_ok && reg_addr[4:2] == 3'd3 && !i_win_p;
-            for (i_n = 0; i_n < CHANNELS; i_n = i_n + 1) begin
-                q_ch[i_n] <= i_wr && (i_blk[4:0] == i_n[4:0]);
-                // (an AND per select, no choice with a 0 arm: Yosys would
-                // have folded that into the reset, behind the port's strobe)
-                q_r_cr[i_n*3 + 0] <= i_rd && i_ch_ok && i_blk[4:0] == i_n[4:0] && ENGINE_N == 0 &&
-                                     reg_addr[4:2] == 3'd3;
-                q_r_cr[i_n*3 + 1] <= i_rd && i_ch_ok && i_blk[4:0] == i_n[4:0] && ENGINE_N == 0 &&
-                                     reg_addr[4:2] == 3'd4;
-                q_r_cr[i_n*3 + 2] <= i_rd && i_ch_ok && i_blk[4:0] == i_n[4:0] && ENGINE_N == 0 &&
-                                     reg_addr[4:2] == 3'd5;
-            end
             q_r_id         <= i_grd && i_g == R_ID;
             q_r_version    <= i_grd && i_g == R_VERSION;
             q_r_params     <= i_grd && i_g == R_PARAMS;
@@ -370,7 +337,7 @@ module twh_core #(
     // entry: {blocked, tag[4:0], channel[4:0], payload[15:0], cmd[7:0]}
     // (the channel from the CMD_PUSH's address)
     // The factory-area verdict is taken on the way in, from the bus data, so
-    // the FIFO's RAM output drives no comparator on its way to the slot.
+    // the FIFO's RAM output drives no comparator on its way to the engine.
     wire        push_req  = q_push;
     wire        cmd_full, cmd_empty;
     // verilator lint_off UNUSEDSIGNAL
@@ -392,12 +359,13 @@ module twh_core #(
 
     wire [CHANNELS-1:0] slot_full;
     wire [31:0] slot_full8;          // (padded to the map's 32 channels)
-    // the head's channel can take it: its slot is empty (ENGINE 0), its
-    // queue not full (ENGINE 1; slot_full8 holds the queues' full flags)
+    // the head's channel can take it: its queue is not full (slot_full8
+    // holds the queues' full flags, and "a command waits for its visit")
     wire h_slot_free = !slot_full8[h_ch];
     // Dispatch is decided one clock and done the next: the decision reads the
-    // FIFO's RAM output (slow on iCE40), the pop and slot load then start
-    // from a flip-flop. The head and its slot cannot change in between.
+    // FIFO's RAM output (slow on iCE40), the pop and the engine's take then
+    // start from a flip-flop. The head and its queue's full flag cannot
+    // change in between.
     reg  dispatch;
     reg  [4:0] disp_ch;
     reg        disp_blk;     // h_blocked, taken with the decision like disp_ch
@@ -411,7 +379,7 @@ module twh_core #(
         end
     end
     // a flush written in the clock a command is dispatched cancels it too:
-    // it was queued when the flush came (the slot's cancel misses it)
+    // it was queued when the flush came (the engine's cancel misses it)
     wire       flush_wr = q_flush;
     wire [3:0] h_skip = (flushing || flush_wr) ? `TWH_ST_CANCELLED :
                         disp_blk               ? `TWH_ST_BLOCKED : 4'd0;
@@ -425,12 +393,6 @@ module twh_core #(
 
     // ------------------------------------------------------------ result FIFO
     // entry: {tag[4:0], channel[4:0], status[3:0], cmd[7:0], data[15:0]}
-    wire [CHANNELS-1:0] c_res_valid;
-    wire [CHANNELS*8-1:0]  c_res_cmd;
-    wire [CHANNELS*16-1:0] c_res_data;
-    wire [CHANNELS*4-1:0]  c_res_status;
-    wire [CHANNELS*5-1:0]  c_res_tag;
-    reg  [2:0] scan;
     wire res_full;
     // verilator lint_off UNUSEDSIGNAL
     wire res_empty;           // output register empty: the proofs read it (the
@@ -439,58 +401,34 @@ module twh_core #(
     wire res_vacant;          // no result queued (STATUS.RES_EMPTY)
     wire [LW-1:0] res_level;
     wire [37:0] res_head;
-    wire [7:0] c_res_valid8;         // ENGINE = 0's scan (up to 8 channels)
-    // scan_v: the channel the scan offers has a result, a flip-flop taken a
-    // clock ahead for the scan's next position (a result stays offered until
-    // it is taken, and only a push takes it), so the push waits only for
-    // scan_v and the full flag: the channels' valid multiplexer is off the
-    // path into the FIFO's write side. A result that comes while the scan
-    // stands at its channel goes in when the scan comes back round: within
-    // CH_COUNT + 1 clocks with room in the FIFO.
-    reg        scan_v;
-    wire [2:0] scan_nx = (scan == CH_COUNT[2:0] - 3'd1 || CHANNELS == 1) ? 3'd0 : scan + 1'b1;
-    // what goes into the result FIFO: the scan's channel (ENGINE 0) or the
-    // engine's result register (ENGINE 1)
+    // what goes into the result FIFO: the engine's result register
     wire        e_res_valid;
     wire [37:0] e_res;
-    wire        e_cancelling;     // ENGINE 1: a flush's cancels are left in the queues
-    wire [31:0] p_rdata;          // ENGINE 1: the answer of a POLL_CTRL / POLL_RESULT / STATE read
-    wire res_push = (ENGINE_N != 0 ? e_res_valid : scan_v) && !res_full;
-    wire [3:0] push_status = ENGINE_N != 0 ? e_res[27:24] : c_res_status[scan*4 +: 4];
+    wire        e_cancelling;     // a flush's cancels are left in the queues
+    wire [31:0] p_rdata;          // the answer of a POLL_CTRL / POLL_RESULT / STATE read
+    wire res_push = e_res_valid && !res_full;
+    wire [3:0] push_status = e_res[27:24];
     wire pop_req = q_pop;
 
     twh_fifo #(.W(38), .DEPTH(DEPTH_N)) u_res_fifo (
         .clk(clk), .rst(rst),
         .push(res_push),
-        .din(ENGINE_N != 0 ? e_res :
-             {c_res_tag[scan*5 +: 5], 2'd0, scan, push_status,
-              c_res_cmd[scan*8 +: 8], c_res_data[scan*16 +: 16]}),
+        .din(e_res),
         .full(res_full),
         .pop(pop_req), .dout(res_head), .empty(res_empty), .valid_next(res_valid_next),
         .level(res_level), .vacant(res_vacant)
     );
 
-    always @(posedge clk) begin
-        scan   <= rst ? 3'd0 : scan_nx;
-        // (with one channel the scan stays put: a result pushed now is
-        // gone in the next clock)
-        scan_v <= !rst && c_res_valid8[scan_nx] && !(CHANNELS == 1 && res_push);
-    end
-
     // ------------------------------------------------------------ channels
-    wire [CHANNELS*32-1:0] c_pc, c_pr, c_st;
     wire [CHANNELS-1:0] c_sample, c_poll_err, c_sbusy;
-    // verilator lint_off UNUSEDSIGNAL
-    wire [CHANNELS-1:0] c_busy;     // the engines' busy: the proofs' (STATUS reads c_sbusy)
-    // verilator lint_on UNUSEDSIGNAL
-    wire [CHANNELS*3-1:0] c_nx_fld;   // per channel: the field it needs next (ENGINE 1: its phase)
+    wire [CHANNELS*3-1:0] c_nx_fld;   // per channel: its phase (twh_timing decodes the field)
 
     // A channel register write starts from the request stage: its value's
     // window flags were taken on the way in, for the register addressed (the
     // only one whose strobe is raised); the lab unlock applies now, so a
     // LAB_KEY write just ahead counts.
     wire       t_take  = (lab || !q_cmp_nz) && PROG_TIMING != 0;
-    // the write the channel or twh_timing does not take, in the clock it would have
+    // the write twh_timing or the poller does not take, in the clock it would have
     wire       refused = (q_wr_t && !t_take) || q_ref_p;
 
     // ------------------------------------------------------------ timing registers
@@ -509,8 +447,8 @@ module twh_core #(
     // register port waits for it, t_ready)
     wire        t_ready, t_sw_we;
     wire [4:0]  t_sw_ch;
-    twh_timing #(.CHANNELS(CH_N), .PROG(PROG_TIMING), .NX_PHASE(ENGINE_N != 0 ? 1 : 0),
-                 .SWEEP((ENGINE_N != 0 && POLLING != 0) ? 1 : 0)) u_timing (
+    twh_timing #(.CHANNELS(CH_N), .PROG(PROG_TIMING), .NX_PHASE(1),
+                 .SWEEP(POLLING != 0 ? 1 : 0)) u_timing (
         .clk(clk), .rst(rst), .ready(t_ready), .sw_we(t_sw_we), .sw_ch(t_sw_ch), .lab(lab),
         .wr(t_wr), .wr_ch(q_blk), .wr_reg(q_treg),
         .wr_data(q_wdata), .wr_cmp(q_cmp),
@@ -519,108 +457,45 @@ module twh_core #(
         .dur_fld(t_dur_fld)
     );
 
+    twh_core_engine #(.CLK_HZ(CLK_HZ), .CHANNELS(CH_N), .POLLING(POLLING),
+                      .RAM_BLOCK(RAM_BLOCK)) u_engine (
+        .clk(clk), .rst(rst), .ms_tick(ms_tick), .sw_we(t_sw_we), .sw_ch(t_sw_ch),
+        .tick(us_tick), .fall(us_fall), .enable(enable), .idle_charge(idle_charge[CH_N-1:0]),
+        .wdata(q_wdata), .pc_wr(q_wp && wr && q_win_p), .rd_ctrl(q_r_pc),
+        .rd_res(q_r_pr), .rd_state(q_r_st), .reg_ch(q_blk), .rd_data(p_rdata),
+        .nx_ph(c_nx_fld), .dur_v(t_dur_v), .dur_ch(t_dur_ch), .dur(t_dur),
+        .dur_fld(t_dur_fld), .poll_sample(c_sample), .poll_error(c_poll_err[0]),
+        .cmd_valid(dispatch), .cmd_ch(disp_ch), .cmd_code(h_cmd),
+        .cmd_payload(h_payload), .cmd_tag(h_tag), .cmd_skip(h_skip),
+        .cancel(flush_wr), .full(slot_full), .cancelling(e_cancelling),
+        .res_valid(e_res_valid), .res_ready(!res_full), .res(e_res),
+        .line_o(line_o), .line_oe(line_oe), .line_i(line_i),
+        .status_busy(c_sbusy)
+    );
     genvar n;
     generate
-        if (ENGINE_N != 0) begin : g_engine
-            twh_core_engine #(.CLK_HZ(CLK_HZ), .CHANNELS(CH_N), .POLLING(POLLING),
-                              .RAM_BLOCK(RAM_BLOCK)) u_engine (
-                .clk(clk), .rst(rst), .ms_tick(ms_tick), .sw_we(t_sw_we), .sw_ch(t_sw_ch),
-                .tick(us_tick), .fall(us_fall), .enable(enable), .idle_charge(idle_charge[CH_N-1:0]),
-                .wdata(q_wdata), .pc_wr(q_wp && wr && q_win_p), .rd_ctrl(q_r_pc),
-                .rd_res(q_r_pr), .rd_state(q_r_st), .reg_ch(q_blk), .rd_data(p_rdata),
-                .nx_ph(c_nx_fld), .dur_v(t_dur_v), .dur_ch(t_dur_ch), .dur(t_dur),
-                .dur_fld(t_dur_fld), .poll_sample(c_sample), .poll_error(c_poll_err[0]),
-                .cmd_valid(dispatch), .cmd_ch(disp_ch), .cmd_code(h_cmd),
-                .cmd_payload(h_payload), .cmd_tag(h_tag), .cmd_skip(h_skip),
-                .cancel(flush_wr), .full(slot_full), .cancelling(e_cancelling),
-                .res_valid(e_res_valid), .res_ready(!res_full), .res(e_res),
-                .line_o(line_o), .line_oe(line_oe), .line_i(line_i),
-                .status_busy(c_sbusy)
-            );
-            assign c_res_valid = {CHANNELS{1'b0}};
-            assign c_res_cmd = {(CHANNELS*8){1'b0}};
-            assign c_res_data = {(CHANNELS*16){1'b0}};
-            assign c_res_status = {(CHANNELS*4){1'b0}};
-            assign c_res_tag = {(CHANNELS*5){1'b0}};
-            assign c_busy = c_sbusy;
-            assign c_pc = {(CHANNELS*32){1'b0}};      // (read from twh_polls: p_rdata)
-            assign c_st = {(CHANNELS*32){1'b0}};      // (read from twh_core_engine: p_rdata)
-            assign c_pr = {(CHANNELS*32){1'b0}};
-            if (CHANNELS > 1) begin : g_err
-                assign c_poll_err[CHANNELS-1:1] = {(CHANNELS-1){1'b0}};
-            end
-            // (the engine steps on the tick itself; the POLL_CTRL write
-            // names its channel by number, not one-hot)
-            // verilator lint_off UNUSEDSIGNAL
-            wire unused_tick_nx = us_tick_nx;
-            wire unused_dur_we  = |t_dur_we;     // (the engine takes dur_v and dur_ch)
-            wire unused_q_ch = |q_ch;
-            // verilator lint_on UNUSEDSIGNAL
-        end else begin : g_channels
-            assign e_res_valid = 1'b0;
-            assign e_res = 38'd0;
-            assign e_cancelling = 1'b0;
-            assign p_rdata = 32'd0;
-            // (the channels' own registers answer POLL_CTRL / POLL_RESULT)
-            // verilator lint_off UNUSEDSIGNAL
-            wire unused_r_p = q_r_pc | q_r_pr | q_r_st | ^t_dur_ch | t_dur_v | t_sw_we | ^t_sw_ch;
-            // verilator lint_on UNUSEDSIGNAL
-        for (n = 0; n < CHANNELS; n = n + 1) begin : g_ch
-            wire sel = q_ch[n];
-            twh_channel #(.CLK_HZ(CLK_HZ), .POLLING(POLLING)) u_ch (
-                .clk(clk), .rst(rst), .ms_tick(ms_tick), .tick(us_tick), .tick_nx(us_tick_nx),
-                .fall(us_fall),
-                .enable(enable), .idle_charge(idle_charge[n]),
-                .wdata(q_wdata), .wdata_ok(q_win_p),
-                .wr_poll_ctrl(sel && q_wp),
-                .nx_fld(c_nx_fld[n*3 +: 3]), .dur_we(t_dur_we[n]), .dur(t_dur),
-                .dur_fld(t_dur_fld),
-                .poll_ctrl(c_pc[n*32 +: 32]),
-                .poll_result(c_pr[n*32 +: 32]), .state(c_st[n*32 +: 32]),
-                .poll_sample(c_sample[n]),
-                .poll_error(c_poll_err[n]),
-                .slot_load(dispatch && disp_ch == n),
-                .slot_cmd_i(h_cmd), .slot_payload_i(h_payload), .slot_tag_i(h_tag),
-                .slot_skip_i(h_skip),
-                .cancel(flush_wr),
-                .slot_full(slot_full[n]),
-                .res_valid(c_res_valid[n]), .res_ready(scan == n && scan_v && !res_full),
-                .res_cmd(c_res_cmd[n*8 +: 8]), .res_data(c_res_data[n*16 +: 16]),
-                .res_status(c_res_status[n*4 +: 4]), .res_tag(c_res_tag[n*5 +: 5]),
-                .line_o(line_o[n]), .line_oe(line_oe[n]), .line_i(line_i[n]),
-                .busy(c_busy[n]), .status_busy(c_sbusy[n])
-            );
-        end
+        if (CHANNELS > 1) begin : g_err
+            assign c_poll_err[CHANNELS-1:1] = {(CHANNELS-1){1'b0}};
         end
     endgenerate
+    // (the engine steps on the tick itself; it takes the lengths by number,
+    // dur_v and dur_ch, not twh_timing's one-hot dur_we)
+    // verilator lint_off UNUSEDSIGNAL
+    wire unused_tick_nx = us_tick_nx;
+    wire unused_dur_we  = |t_dur_we;
+    // verilator lint_on UNUSEDSIGNAL
 
-    // per-channel bits widened to the 32 channels of the register map (the
-    // results' scan of ENGINE = 0: to its 8)
+    // per-channel bits widened to the 32 channels of the register map
     generate
         for (n = 0; n < 32; n = n + 1) begin : g_pad
             if (n < CHANNELS) begin : g_on
                 assign slot_full8[n]   = slot_full[n];
-                // queued (slot), running (engine), or its result waiting
-                // for the result FIFO
+                // queued, running, or its result waiting for the result FIFO
                 assign busy8[n]        = c_sbusy[n];
             end else begin : g_off
                 assign slot_full8[n]   = 1'b0;
                 assign busy8[n]        = 1'b0;
             end
-        end
-        for (n = 0; n < 8; n = n + 1) begin : g_pad8
-            if (n < CHANNELS) begin : g_on
-                assign c_res_valid8[n] = c_res_valid[n];
-            end else begin : g_off
-                assign c_res_valid8[n] = 1'b0;
-            end
-        end
-        if (CHANNELS > 8) begin : g_valid_hi
-            // (ENGINE = 0 stops at 8 channels; the engine's results come
-            // from its result register)
-            // verilator lint_off UNUSEDSIGNAL
-            wire unused_valid_hi = |c_res_valid[CHANNELS-1:8];
-            // verilator lint_on UNUSEDSIGNAL
         end
     endgenerate
 
@@ -631,8 +506,8 @@ module twh_core #(
 
     // ------------------------------------------------------------ register writes
     // A result's link status sets LINK_ERROR a clock after the result goes
-    // into the FIFO (registered: the scan's status multiplexer is off the
-    // error register's path); the result reaches the FIFO's output in that
+    // into the FIFO (registered: the status compare is off the error
+    // register's path); the result reaches the FIFO's output in that
     // same clock, so software never sees the one without the other.
     reg  push_link_err;
     always @(posedge clk)
@@ -758,28 +633,16 @@ module twh_core #(
         | ({32{r_res_pop}}      & {1'b0, res_head[37:33], 1'b1, res_head[32:28],
                                    res_head[27:24], res_head[15:0]});
 
-    reg [31:0] c_rdata;
-    integer    r_n;
-    always @(*) begin
-        c_rdata = 32'd0;
-        for (r_n = 0; r_n < CHANNELS; r_n = r_n + 1)
-            c_rdata = c_rdata
-                | ({32{q_r_cr[r_n*3 + 0]}} & c_pc[r_n*32 +: 32])
-                | ({32{q_r_cr[r_n*3 + 1]}} & c_pr[r_n*32 +: 32])
-                | ({32{q_r_cr[r_n*3 + 2]}} & c_st[r_n*32 +: 32]);
-    end
-
-    // the answer in two registers, the global registers' and the channels'
-    // (one OR level after them rather than in front: with every channel's
-    // terms in one OR tree the read was ECP5's three-channel path)
-    reg [31:0] rdata_q, rdata_c_q;
+    // the answer: the global registers' word in a register, ORed with the
+    // timing word (twh_timing's RAM register) and the channel word of
+    // twh_core_engine (p_rdata, a register there)
+    reg [31:0] rdata_q;
     reg        t_rd_q;           // the answer is a TIMING0-2 read
     always @(posedge clk) begin
         if (rst) begin
             reg_ack   <= 1'b0;
             reg_err   <= 1'b0;
             rdata_q   <= 32'd0;
-            rdata_c_q <= 32'd0;
             t_rd_q    <= 1'b0;
         end else begin
             reg_ack   <= q_req;
@@ -788,12 +651,11 @@ module twh_core #(
             // between answers the read selects are 0, and so are these
             if (q_req || reg_ack) begin
                 rdata_q   <= g_rdata;
-                rdata_c_q <= c_rdata;
                 t_rd_q  <= q_r_t;
             end
         end
     end
-    assign reg_rdata = rdata_q | rdata_c_q | ({32{t_rd_q}} & t_rdata) | p_rdata;
+    assign reg_rdata = rdata_q | ({32{t_rd_q}} & t_rdata) | p_rdata;
     assign reg_ready = t_ready;
 
 `ifdef FORMAL
@@ -801,9 +663,8 @@ module twh_core #(
     // The register-port contract holds on its own: reg_ack is a register of
     // the request. The command path is proven by formal/twh_core.sby with
     // TWH_F_CORE: the engine is a stand-in that keeps its proven contract
-    // (ENGINE = 1: formal/twh_core_engine_stub.v, the time-shared engine's
-    // queues and result register; ENGINE = 0: formal/twh_core_channel.v,
-    // twh_channel's), and the f_cf_* and f_e_* probes below are tied by
+    // (formal/twh_core_engine_stub.v, the time-shared engine's queues and
+    // result register), and the f_cf_* and f_e_* probes below are tied by
     // that job (connect -set) to the command FIFO's pointers, output flag
     // and RAM words, which twh_fifo exposes nowhere else, and to the
     // stand-in's queues.
@@ -833,14 +694,14 @@ module twh_core #(
     // request in the stage every strobe and select is 0, and with no
     // answer the read word is 0.
     always @(*) if (f_rs && !q_req) begin
-        assert({q_wr, q_rd, q_wr_t, q_r_t, q_ref_p, q_ch, q_r_cr, q_r_pc, q_r_pr, q_r_st} == 0);
+        assert({q_wr, q_rd, q_wr_t, q_r_t, q_ref_p, q_r_pc, q_r_pr, q_r_st} == 0);
         assert({q_r_id, q_r_version, q_r_params, q_r_ctrl, q_r_status, q_r_levels,
                 q_r_errors, q_r_irq_en, q_r_irq_status, q_r_poll_ready, q_r_res_info,
                 q_r_res_pop, q_r_idle, q_r_busy} == 0);
         assert({q_ctrl, q_flush, q_errors, q_irq_en, q_poll_ready, q_push, q_push_ch,
                 q_pop, q_lab_key, q_fact_key, q_idle} == 0);
     end
-    always @(*) if (f_rs && !reg_ack) assert(rdata_q == 32'd0 && rdata_c_q == 32'd0 && !t_rd_q);
+    always @(*) if (f_rs && !reg_ack) assert(rdata_q == 32'd0 && !t_rd_q);
     wire [15:0] f_lo = q_wdata[15:0], f_hi = q_wdata[31:16];
     wire [7:0]  f_c  = q_wdata[7:0];
     reg         f_cw_ok;
@@ -856,7 +717,7 @@ module twh_core #(
                                             (f_c >= 8'h46 && f_c <= 8'h49);
             default: f_cw_ok = 1'b0;
         endcase
-        // the window flags the channel keeps beside the value:
+        // the window flags twh_timing keeps beside the value:
         // {hi above, hi below, lo above, lo below}
         case (ch_reg)
             3'd0:    f_cmp = {f_hi > 16'd1100, f_hi < 16'd900, 1'b0, f_lo < 16'd7000};
@@ -865,7 +726,7 @@ module twh_core #(
         endcase
         if (f_rs && f_h) begin
 `ifndef TWH_F_CORE
-            // (the jobs with the channel stand-in cut the window checker)
+            // (the jobs with the engine's stand-in cut the window checker)
             if (wr && ch_exists && ch_reg == 3'd3) assert(q_win_p == f_cw_ok);
             // twh_timing takes the write exactly when the rule takes it, at
             // its address, with the value's window flags
@@ -879,8 +740,6 @@ module twh_core #(
             assert(q_wr == (q_req && q_we && q_full) && q_rd == (q_req && !q_we));
             assert(q_mapped == ((!is_ch && g_reg <= 5'd16 && g_reg != 5'd10) || ch_exists));
             assert(q_wp == (ch_exists && ch_reg == 3'd3));
-            if (q_wp || q_wr_t)
-                assert(q_ch == (wr ? {{(CHANNELS-1){1'b0}}, 1'b1} << ch_sel : {CHANNELS{1'b0}}));
             // the flag is the count's
             assert(flushing == (flush_left != {LW{1'b0}}));
             assert(q_bad_ch == !(is_ch && ch_blk < CH_COUNT));
@@ -922,12 +781,10 @@ module twh_core #(
                     3'd0,
                     3'd1,
                     3'd2:    f_rdata = 32'd0;
-                    // POLL_CTRL, POLL_RESULT: the channel's registers
-                    // (ENGINE = 1: twh_polls' word, ORed in a clock later)
-                    3'd3:    f_rdata = ENGINE_N != 0 ? 32'd0 : c_pc[ch_sel*32 +: 32];
-                    3'd4:    f_rdata = ENGINE_N != 0 ? 32'd0 : c_pr[ch_sel*32 +: 32];
-                    3'd5:    f_rdata = c_st[ch_sel*32 +: 32];
-                    default: f_rdata = 32'd0;       // CMD_PUSH: write-only
+                    // POLL_CTRL, POLL_RESULT, STATE: twh_core_engine's
+                    // word (twh_polls' and the engine's), ORed in a clock
+                    // later (below); CMD_PUSH: write-only
+                    default: f_rdata = 32'd0;
                 endcase
             end else begin
                 case (g_reg)
@@ -967,13 +824,12 @@ module twh_core #(
     reg f_trd_q, f_prd_q;
     always @(posedge clk) begin
         f_trd_q <= rd && mapped && is_ch && ch_reg <= 3'd2;
-        f_prd_q <= rd && mapped && is_ch && (ch_reg == 3'd3 || ch_reg == 3'd4 || ch_reg == 3'd5) &&
-                   ENGINE_N != 0;
+        f_prd_q <= rd && mapped && is_ch && (ch_reg == 3'd3 || ch_reg == 3'd4 || ch_reg == 3'd5);
     end
     always @(*) if (f_chk_rd) assert(reg_rdata == (f_rdata_q | ({32{f_trd_q}} & t_rdata) |
                                                    ({32{f_prd_q}} & p_rdata)));
     // twh_polls is handed the request's channel and register
-    always @(*) if (f_rs && f_h && ENGINE_N != 0)
+    always @(*) if (f_rs && f_h)
         assert(q_r_pc == (rd && ch_exists && ch_reg == 3'd3) &&
                q_r_pr == (rd && ch_exists && ch_reg == 3'd4) &&
                q_r_st == (rd && ch_exists && ch_reg == 3'd5) &&
@@ -1058,24 +914,10 @@ module twh_core #(
     (* keep *) wire [F_AW:0] f_rf_rp2;             // u_res_fifo.rd_ptr_p2
     wire [F_AW:0] f_rf_n = f_rf_wr - f_rf_rd;
 
-    // per-channel state widened to 8 channels
-    wire [CHANNELS+31:0] f_busy_w = {32'd0, c_busy};
-    wire [31:0] f_busy8 = f_busy_w[31:0];
     integer f_j, f_k;
-    // commands the channels hold: ENGINE = 0 in slots and engines, ENGINE =
-    // 1 in the engine's queues and its result register (the stand-in's
-    // probes, g_f_eng below)
-    reg [4:0] f_inch;
-    wire [4:0] f_inch_e;
-    always @(*) begin
-        f_inch = 5'd0;
-        if (ENGINE_N == 0) begin
-            for (f_j = 0; f_j < CHANNELS; f_j = f_j + 1)
-                f_inch = f_inch + {4'd0, slot_full[f_j]} + {4'd0, c_busy[f_j]};
-        end else begin
-            f_inch = f_inch_e;
-        end
-    end
+    // commands the channels hold: in the engine's queues and its result
+    // register (the stand-in's probes, f_e_* below)
+    wire [4:0] f_inch;
 
     // f_pend: commands accepted by CMD_PUSH minus results the result FIFO
     // took
@@ -1090,31 +932,6 @@ module twh_core #(
     always @(*)
         if (f_ok && !rst && busy8 == 32'd0 && st_cmd_empty && st_res_empty)
             assert(f_pend == 6'd0 && res_level == {LW{1'b0}});
-
-    // ------------------------------------------------ no result waits for ever
-    // The scan offers each channel the result FIFO in turn: a result offered
-    // while the FIFO has room goes in within CH_COUNT + 1 clocks (w: clocks
-    // it has waited so, with the FIFO not full). scan_v never offers a
-    // result that is not there.
-    always @(*) if (f_ok) assert({1'b0, scan} < CH_COUNT);
-    always @(*) if (f_ok && !rst && scan_v) assert(c_res_valid8[scan]);
-    genvar f_n;
-    generate
-        for (f_n = 0; f_n < CHANNELS && ENGINE_N == 0; f_n = f_n + 1) begin : g_f_rw
-            reg [3:0] w;
-            always @(posedge clk)
-                if (rst || !c_res_valid[f_n] || res_full || (res_push && scan == f_n)) w <= 4'd0;
-                else if (w != 4'hF)                                                    w <= w + 1'b1;
-            // (for the induction: it waited through the scan positions
-            // before its own, so their count and the distance still to go
-            // add up to less than one round)
-            wire [3:0] d = ({1'b0, scan} <= f_n) ? f_n - {1'b0, scan}
-                                                 : f_n + CH_COUNT - {1'b0, scan};
-            always @(*) if (f_ok) assert({1'b0, w} + {1'b0, d} <= {1'b0, CH_COUNT});
-            // (a result not offered where the scan stands came this clock)
-            always @(*) if (f_ok && scan == f_n && c_res_valid[f_n] && !scan_v) assert(w == 4'd0);
-        end
-    endgenerate
 
     // ------------------------------------------------ factory rule
     // The factory rule as NOTES.md words it, on the pushed word: erase
@@ -1135,68 +952,50 @@ module twh_core #(
     end
 
     // ------------------------------------------------ the engine's stand-in
-    // ENGINE = 1 (formal/twh_core_engine_stub.v): its queues, entry i of
+    // (formal/twh_core_engine_stub.v): its queues, entry i of
     // channel c, counted from the head, at (c*4 + i)*17 ({skip, tag, code}),
     // their counts, whether each head has started, starts now, or hands its
     // result over now; probes tied by formal/twh_core.sby (connect -set)
     (* keep *) wire [CHANNELS*68-1:0] f_e_q;
     (* keep *) wire [CHANNELS*3-1:0]  f_e_n;
     (* keep *) wire [CHANNELS-1:0]    f_e_st, f_e_strt, f_e_pop;
-    generate
-        if (ENGINE_N == 0) begin : g_f_e_none
-            assign f_e_q = {(CHANNELS*68){1'b0}};
-            assign f_e_n = {(CHANNELS*3){1'b0}};
-            assign {f_e_st, f_e_strt, f_e_pop} = {(CHANNELS*3){1'b0}};
-        end
-    endgenerate
     reg [4:0] f_e_sum;
     always @(*) begin
         f_e_sum = {4'd0, e_res_valid};
         for (f_j = 0; f_j < CHANNELS; f_j = f_j + 1)
             f_e_sum = f_e_sum + {2'd0, f_e_n[f_j*3 +: 3]};
     end
-    assign f_inch_e = f_e_sum;
+    assign f_inch = f_e_sum;
 
     // ------------------------------------------------ one command, followed
     // An arbitrary accepted push is followed to its result: f_st 1 while in
-    // the command FIFO (f_pos words ahead of it); ENGINE = 0: 2 in its
-    // channel's slot, 3 in that channel's engine; ENGINE = 1: 2 in its
-    // channel's queue in the engine (f_qp entries behind the head), 3 in the
-    // engine's result register. f_can: it must come out CANCELLED (a flush
-    // was written while it was queued, waiting in the slot, or in the
-    // engine's queue and not yet started).
+    // the command FIFO (f_pos words ahead of it); 2 in its channel's queue
+    // in the engine (f_qp entries behind the head), 3 in the engine's result
+    // register. f_can: it must come out CANCELLED (a flush was written while
+    // it was queued, or in the engine's queue and not yet started).
     (* anyseq *) reg f_pick;
     reg [1:0]    f_st;
     reg [LW-1:0] f_pos;
     reg [2:0]    f_qp;
     reg [34:0]   f_word;       // as pushed: {blocked, tag, channel, payload, code}
-    reg          f_can, f_pf;
+    reg          f_can;
     reg          f_blk;        // it must come out BLOCKED (unless CANCELLED)
     wire [4:0]   f_ch    = f_word[28:24];
     wire         f_flush = wr && !is_ch && g_reg == R_CTRL && q_wdata[1];
-    // a flush last clock hit it waiting in the slot (it is still there);
-    // ENGINE = 1 takes the flush in its own clock (f_can)
-    wire         f_can_now = f_can || (ENGINE_N == 0 && f_st == 2'd2 && f_pf && slot_full8[f_ch]);
-    wire [3:0]   f_skip  = f_can_now ? `TWH_ST_CANCELLED :
+    // (the engine takes a flush in its own clock: f_can)
+    wire [3:0]   f_skip  = f_can ? `TWH_ST_CANCELLED :
                            f_blk ? `TWH_ST_BLOCKED : 4'd0;
-    wire [31:0]  f_slot  = c_pc[f_ch*32 +: 32];    // stand-in: {skip, tag, code} in the slot
-    wire [31:0]  f_eng   = c_pr[f_ch*32 +: 32];    // ... and in the engine
     // its result goes in
-    wire         f_mine  = res_push && (ENGINE_N != 0 || scan == f_ch) && f_st == 2'd3;
-    // ENGINE = 1: its queue's count and head, its entry, whether its head
+    wire         f_mine  = res_push && f_st == 2'd3;
+    // its queue's count and head, its entry, whether its head
     // starts or hands over now
     wire [2:0]   f_e_cnt  = f_e_n[f_ch*3 +: 3];
     wire [16:0]  f_e_ent  = f_e_q[(f_ch*4 + f_qp)*17 +: 17];
     wire         f_e_hst  = f_e_st[f_ch];
     wire         f_e_go   = f_e_strt[f_ch];
     wire         f_e_out  = f_e_pop[f_ch];
-    // what its channel offers: {tag, status} and code (all of it only
-    // counts while that channel's result is valid)
-    wire [8:0]   f_res     = {c_res_tag[f_ch*5 +: 5], c_res_status[f_ch*4 +: 4]};
-    wire [7:0]   f_res_cmd = c_res_cmd[f_ch*8 +: 8];
 
     always @(posedge clk) begin
-        f_pf <= f_flush;
         if (rst) begin
             f_st <= 2'd0;
         end else begin
@@ -1217,10 +1016,7 @@ module twh_core #(
                               f_qp <= f_e_cnt - {2'd0, f_e_out};
                           end
                       end
-                2'd2: if (ENGINE_N == 0) begin
-                          f_can <= f_can_now;
-                          if (!slot_full8[f_ch]) f_st <= 2'd3;   // the engine took it
-                      end else begin
+                2'd2: begin
                           // a flush cancels it unless it is the head and
                           // has started (or starts now)
                           if (f_flush && !(f_qp == 3'd0 && (f_e_hst || f_e_go))) f_can <= 1'b1;
@@ -1264,28 +1060,26 @@ module twh_core #(
             assert(f_cf_mo == (f_cf_rp1 == f_cf_wr) && f_cf_rp2 == f_cf_rd + 2'd2);
             assert(f_rf_mo == (f_rf_rp1 == f_rf_wr) && f_rf_rp2 == f_rf_rd + 2'd2);
             // every queued command names a channel that exists (the push
-            // refuses the others), so a dispatch always lands in a slot
+            // refuses the others), so a dispatch always lands in a queue
             if (f_cf_ov) assert({1'b0, cmd_head[28:24]} < CH_COUNT);
             for (f_k = 0; f_k < FIFO_DEPTH; f_k = f_k + 1)
                 if (f_k < f_cf_n)
                     assert({1'b0, f_cf_mem[((f_cf_rd[F_AW-1:0] + f_k) % FIFO_DEPTH)*35 + 24 +: 5]} < CH_COUNT);
 
-            // ---- dispatch: one word out of the FIFO, into a free slot of
-            // the channel it names (the channel's own proof assumes this)
+            // ---- dispatch: one word out of the FIFO, into the queue of
+            // the channel it names, not full (the engine's proof assumes this)
             if (dispatch)
                 assert(f_cf_ov && disp_ch == cmd_head[28:24] && disp_blk == cmd_head[34] &&
                        {1'b0, disp_ch} < CH_COUNT && !slot_full8[disp_ch]);
-            for (f_k = 0; f_k < CHANNELS; f_k = f_k + 1)
-                if (c_res_valid[f_k]) assert(c_busy[f_k]);     // stand-in state
-            // (ENGINE = 1: the result register's channel exists)
+            // the result register's channel exists
             if (e_res_valid) assert({1'b0, e_res[32:28]} < CH_COUNT);
             // a flush counts down only the commands queued before it
             assert(flush_left <= cmd_level);
             assert(flushing == (flush_left != {LW{1'b0}}));
 
             // ---- none lost, none doubled: every accepted push is queued,
-            // in a slot, in an engine, or was put as one result into the
-            // result FIFO
+            // in the engine (a queue or its result register), or was put
+            // as one result into the result FIFO
             assert(f_pend == {1'b0, cmd_level} + {1'b0, f_inch});
 
             // ---- the factory verdict stored with each push
@@ -1302,57 +1096,35 @@ module twh_core #(
                 assert(f_can == (f_pos < flush_left));
             end
             if (f_st != 2'd0) assert({1'b0, f_ch} < CH_COUNT);
-            if (ENGINE_N != 0) begin
-                // in its channel's queue as pushed, behind f_qp entries;
-                // blocked or cancelled as it must be (a started head no
-                // longer changes)
-                if (f_st == 2'd2)
-                    assert(f_qp < f_e_cnt && f_e_ent == {f_skip, f_word[33:29], f_word[7:0]});
-                // its one result, in the result register until the result
-                // FIFO takes it: its tag, channel and code, and its status
-                if (f_st == 2'd3) begin
-                    assert(e_res_valid && e_res[32:28] == f_ch && e_res[37:33] == f_word[33:29] &&
-                           e_res[23:16] == f_word[7:0]);
-                    if (f_skip != 4'd0) assert(e_res[27:24] == f_skip);
-                    else                assert(e_res[27:24] <= `TWH_ST_LINE_STUCK_HIGH);
-                end
-            end else begin
-                if (f_st == 2'd2 && slot_full8[f_ch])
-                    // in the slot as pushed; blocked or cancelled as it must be
-                    assert(f_slot[16:0] == {f_skip, f_word[33:29], f_word[7:0]});
-                if ((f_st == 2'd2 && !slot_full8[f_ch]) || f_st == 2'd3) begin
-                    assert(f_busy8[f_ch] && f_eng[16:0] == {f_skip, f_word[33:29], f_word[7:0]});
-                    if (f_st == 2'd2) assert(!c_res_valid8[f_ch[2:0]]);
-                end
-                // its one result, offered and then put into the result FIFO:
-                // its tag, channel and code, and its status
-                if (f_st == 2'd3 && c_res_valid8[f_ch[2:0]]) begin
-                    assert(f_res[8:4] == f_word[33:29] && f_res_cmd == f_word[7:0]);
-                    if (f_skip != 4'd0) assert(f_res[3:0] == f_skip);
-                    else                assert(f_res[3:0] <= `TWH_ST_LINE_STUCK_HIGH);
-                end
+            // in its channel's queue as pushed, behind f_qp entries;
+            // blocked or cancelled as it must be (a started head no
+            // longer changes)
+            if (f_st == 2'd2)
+                assert(f_qp < f_e_cnt && f_e_ent == {f_skip, f_word[33:29], f_word[7:0]});
+            // its one result, in the result register until the result
+            // FIFO takes it: its tag, channel and code, and its status
+            if (f_st == 2'd3) begin
+                assert(e_res_valid && e_res[32:28] == f_ch && e_res[37:33] == f_word[33:29] &&
+                       e_res[23:16] == f_word[7:0]);
+                if (f_skip != 4'd0) assert(e_res[27:24] == f_skip);
+                else                assert(e_res[27:24] <= `TWH_ST_LINE_STUCK_HIGH);
             end
         end
     end
 
     // the followed command does reach each ending, and a flush does catch
-    // one waiting in its slot (ENGINE = 1: in its queue)
+    // one waiting in its queue
     always @(posedge clk) begin
         if (f_ok && !rst) begin
             cover(f_mine && f_skip == 4'd0);
             cover(f_mine && f_skip == `TWH_ST_BLOCKED);
             cover(f_mine && f_skip == `TWH_ST_CANCELLED);
-            if (ENGINE_N == 0) begin
-                cover(f_st == 2'd2 && f_pf && slot_full8[f_ch] && !f_can);
-                cover(cmd_full && f_inch == 5'd2 * CH_COUNT);
-            end else begin
-                // a flush catches it behind its queue's head, or does not
-                // as its head, started
-                cover(f_st == 2'd2 && f_flush && f_qp != 3'd0);
-                cover(f_st == 2'd2 && f_flush && f_qp == 3'd0 && f_e_hst && f_skip == 4'd0);
-                // the command FIFO fills behind a full queue
-                cover(cmd_full && f_e_n[2:0] == 3'd4);
-            end
+            // a flush catches it behind its queue's head, or does not
+            // as its head, started
+            cover(f_st == 2'd2 && f_flush && f_qp != 3'd0);
+            cover(f_st == 2'd2 && f_flush && f_qp == 3'd0 && f_e_hst && f_skip == 4'd0);
+            // the command FIFO fills behind a full queue
+            cover(cmd_full && f_e_n[2:0] == 3'd4);
         end
     end
 `endif

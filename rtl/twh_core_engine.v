@@ -1,8 +1,7 @@
-// The core's channels on the time-shared engine (twh_core, ENGINE = 1): the
-// engine (twh_engine), every channel's poller with its registers in RAM
-// (twh_polls), and what the core's registers read of them. It takes the same signals from the core as
-// its array of twh_channel does (ENGINE = 0), but its command side is a
-// stream into per-channel queues rather than one slot a channel.
+// The core's channels on the time-shared engine (twh_core): the engine
+// (twh_engine), every channel's poller with its registers in RAM
+// (twh_polls), and what the core's registers read of them. Its command side
+// is a stream into per-channel queues.
 //
 // - Commands: the core's dispatcher pushes the command FIFO's head into its
 //   channel's queue when that queue is not full and the engine's waiting

@@ -4,7 +4,7 @@
 `ifndef TWH_DEFS_VH
 `define TWH_DEFS_VH
 
-// Phase codes (twh_link `phase` output)
+// Phase codes (twh_engine's `phase`, STATE.PHASE)
 `define TWH_PH_IDLE        3'd0
 `define TWH_PH_CHARGE      3'd1
 `define TWH_PH_SYNC        3'd2

@@ -114,7 +114,7 @@ module twh_engine_pin #(
     reg f_pv = 1'b0;            // a clock has passed: $past is defined
     always @(posedge clk) f_pv <= 1'b1;
 
-    // The filter's reference, as twh_demod's (docs/protocol.md): a sample
+    // The filter's reference, as the retired twh_demod's (docs/protocol.md): a sample
     // is accepted when it and the F_GL-1 before it (since reset) are high,
     // F_GL = max(1, floor(CLK_HZ x GLITCH_NS)), with its own constants. The
     // samples are the pin's, two clocks late (the synchroniser), so the
@@ -239,7 +239,7 @@ module twh_engine_pin #(
 `ifdef TWH_F_PIN_CARRIER
     // A peripheral carrier anywhere in the window of NOTES.md (0.90-1.10
     // MHz, duty 30-70 %), as the pin's first flop samples it (one clock of
-    // margin each way), twh_demod's model on line_i: a high lasts at least
+    // margin each way), the retired twh_demod's model on line_i: a high lasts at least
     // F_HMIN clocks, a low at most F_LMAX once the first high came; the
     // first high after reset may be cut short by the reset.
     localparam integer F_HMIN_R = CLK_HZ / 1_000 * 3 / 11_000 - 1;    // 0.3 / 1.1 MHz
@@ -378,7 +378,7 @@ module twh_engine_pin #(
             assert(f_aon == (f_aon1 || (&f_d[F_GL-1:0])));
             if (f_aon) assert(f_ag == ((&f_d[F_GL-1:0]) ? {F_CW{1'b0}} : f_ag1_n));
             // the time since the pin's last acceptance is bounded by the
-            // run lengths (twh_demod's invariants, on the pin)
+            // run lengths (the retired twh_demod's invariants, on the pin)
             if (f_aon && f_lo != {F_RW{1'b0}}) assert(f_ag == f_lo);
             if (f_aon && f_hi >= F_GL_R) assert(f_ag == {F_CW{1'b0}});
             if (f_aon && f_hi != {F_RW{1'b0}} && f_hi < F_GL_R)

@@ -18,8 +18,9 @@ module twh_rx_dec (
     // bit), [4] the bit's verdict (19), [5] the bit's last tick (31),
     // [6] the start bit, [7] the stop bit
     output wire [7:0] dec,
-    // the answer as it stands, were listen to end now (twh_link's
-    // precedence); its data is the answer's when OK or BAD_CHECKSUM
+    // the answer as it stands, were listen to end now (the precedence
+    // formal/twh_rx.sby's equiv states); its data is the answer's when OK
+    // or BAD_CHECKSUM
     output reg  [3:0] status
 );
     wire [23:0] sh  = rx[`TWH_RX_SH +: 24];

@@ -264,7 +264,7 @@ module twh_timing #(
     // formal/twh_timing.sby, at one and three channels. The core's side is
     // assumed as the core's proof shows it (a write names an existing
     // channel's TIMING0-2 and carries twh_window's flags of its data); the
-    // engines name fields 1-6 (twh_link's proof). One word, f_a, is
+    // engines name fields 1-6 with NX_PHASE = 0, any phase with 1. One word, f_a, is
     // followed symbolically: what holds for it holds for every word.
     reg f_ok = 1'b0;
     always @(posedge clk) if (rst) f_ok <= 1'b1;

@@ -14,7 +14,6 @@ module twh_wb #(
     parameter integer FIFO_DEPTH = 16,
     parameter integer PROG_TIMING = 1,   // twh_core: features a fixed board may leave out
     parameter integer POLLING     = 1,
-    parameter integer ENGINE      = 1,   // twh_core: the channels' engine
     parameter integer RAM_BLOCK   = 1    // twh_core: the engine's memories in block RAM
 ) (
     input  wire                clk,
@@ -52,7 +51,7 @@ module twh_wb #(
     wire answer = ack && wb_cyc_i && !drop;
 
     twh_core #(.CLK_HZ(CLK_HZ), .CHANNELS(CHANNELS), .FIFO_DEPTH(FIFO_DEPTH),
-               .PROG_TIMING(PROG_TIMING), .POLLING(POLLING), .ENGINE(ENGINE),
+               .PROG_TIMING(PROG_TIMING), .POLLING(POLLING),
                .RAM_BLOCK(RAM_BLOCK)) u_core (
         .clk(clk), .rst(rst),
         .reg_ready(ready), .reg_req(req), .reg_we(wb_we_i), .reg_addr(wb_adr_i),

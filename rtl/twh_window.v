@@ -3,10 +3,10 @@
 // above the maximum, or inside (both flags 0).
 //
 // One instance in twh_core checks every timing write for every channel;
-// twh_channel keeps the flags beside each value and twh_link clamps by
-// them, so the engine needs no comparator of its own on the path into its
-// phase counter. A stand-alone twh_link takes its flags from an instance
-// per register (tb/tb_link.v shows how).
+// twh_timing keeps the flags beside each value and clamps by them, so the
+// engine needs no comparator of its own on the path into its phase
+// counter. A stand-alone twh_engine behind its own twh_timing takes its
+// flags from an instance per register (tb/tb_link.v shows how).
 //
 // Each bound is a constant, so each comparison is written as plain logic
 // (below): synthesis makes a few LUTs of it instead of a 16-bit carry

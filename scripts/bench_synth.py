@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """Resource and Fmax benchmark: the bare Wishbone core (twh_wb, 16-deep
-FIFOs) at CHANNELS = 1, 3 and 8 on each part (the time-shared engine,
-ENGINE = 1, the default), the same with ENGINE = 0 (one engine a channel) on
-the HX8K beside it, the lean build (PROG_TIMING = 0, POLLING = 0) at one and
+FIFOs) at CHANNELS = 1, 3 and 8 on each part (the time-shared engine; the
+retired ENGINE = 0, one engine a channel, is shown beside it on the HX8K
+from its recorded figures, ENGINE0_RECORDED, not measured), the lean build
+(PROG_TIMING = 0, POLLING = 0) at one and
 three channels on the HX8K, and the board tops (make boards) at CHANNELS = 1
 and 3, the iCEBreaker's also as the lean build. Fmax of the goal
 configurations over nextpnr seeds 1-5. Prints a table and, with --write,
@@ -55,9 +56,26 @@ CORE_CHANNELS = (1, 3, 8, 16, 32)
 # 3, 8 and 32 channels); 16 channels has its seed-1 run
 FMAX_CHANNELS = (1, 3, 8, 32)
 CHANNELS = (1, 3)
-# the structure before issue 34, one twh_link engine a channel in
-# flip-flops, measured beside the time-shared engine on the HX8K
-ENGINE0 = {"ENGINE": "0"}
+# The structure before issue 34, ENGINE = 0 (one twh_link engine a channel
+# in flip-flops, 1-8 channels), is retired and can no longer be synthesised:
+# its bare-core rows on the HX8K (16-deep FIFOs, seed 1, 100 MHz target) as
+# docs/resources.md recorded them at commit ENGINE0_COMMIT. They are the
+# "before" of the table (rows labelled as recorded) and of the chart; never
+# measured now.
+ENGINE0_COMMIT = "909a304"
+ENGINE0_RECORDED = {
+    1: {"logic": 1270, "lut": 968, "ff": 675, "ram": 9, "fmax": 170.4},
+    3: {"logic": 2588, "lut": 1942, "ff": 1417, "ram": 9, "fmax": 141.3},
+    8: {"logic": 5775, "lut": 4306, "ff": 3243, "ram": 9, "fmax": 119.7},
+}
+ENGINE0_WHAT = f"twh_wb (bare core), ENGINE = 0, retired: recorded at {ENGINE0_COMMIT}, not measured"
+
+
+def engine0_rows():
+    """The recorded ENGINE = 0 rows, as fmt_row takes a run."""
+    return [(ENGINE0_WHAT, {"part": "hx8k", "params": {"CHANNELS": str(ch)}, "freq": 100,
+                            "timing_met": True, "lutram": 0, **fig})
+            for ch, fig in sorted(ENGINE0_RECORDED.items())]
 # the bare core's parameters: the full feature set is the default
 # (PROG_TIMING = POLLING = 1); the lean build is what a board with fixed
 # timing and no poller would pick
@@ -83,8 +101,7 @@ PIECES = [("twh_engine", {"CHANNELS": "3", "TAG_W": "5"},
                                            "in RAM"),
           ("twh_fifo", {"W": "33", "DEPTH": "16"}, "the 16-deep command FIFO"),
           ("twh_timing", {"CHANNELS": "3"}, "the timing registers of three channels "
-                                            "with their fetch and clamp (block RAM)"),
-          ("twh_link", {}, "ENGINE = 0's engine of one channel, for comparison")]
+                                            "with their fetch and clamp (block RAM)")]
 
 
 def piece_runs():
@@ -240,12 +257,12 @@ LC_GOALS = ((1, 1267), (3, 1500), (8, 1900), (16, 2400), (32, 3400))
 def lc_chart(runs, path):
     """docs/lc-vs-channels.svg: logic cells of twh_wb against the channel
     count (HX8K, seed 1), the time-shared engine beside ENGINE = 0 (the
-    structure before issue 34) and the anchors, with issue 34's goals.
-    Plain SVG, no plotting library."""
+    structure before issue 34, retired: its recorded figures,
+    ENGINE0_RECORDED) and the anchors, with issue 34's goals. Plain SVG, no
+    plotting library."""
     eng = [(c, runs[f"hx8k-twh_wb-{c}"]["logic"]) for c in CORE_CHANNELS
            if f"hx8k-twh_wb-{c}" in runs]
-    old = [(c, runs[f"hx8k-twh_wb-engine0-{c}"]["logic"]) for c in CORE_CHANNELS
-           if f"hx8k-twh_wb-engine0-{c}" in runs]
+    old = [(c, fig["logic"]) for c, fig in sorted(ENGINE0_RECORDED.items())]
     if not eng:
         return False
     base = eng[0][1]
@@ -276,7 +293,7 @@ def lc_chart(runs, path):
                f'{(t + h - b) / 2:.1f})" text-anchor="middle">logic cells (HX8K, seed 1; '
                f'clipped at {ymax})</text>')
     series = [(eng, "#1f77b4", "", "twh_wb, time-shared engine"),
-              (old, "#d62728", "", "twh_wb, ENGINE = 0 (1-8)")]
+              (old, "#d62728", "", f"twh_wb, ENGINE = 0 (1-8; recorded at {ENGINE0_COMMIT})")]
     for (name, per), colour in zip(ANCHORS, ("#2ca02c", "#9467bd", "#8c564b")):
         end = min(32.0, 1 + (ymax - base) / per)       # where it leaves the chart
         series.append(([(1, base), (end, base + (end - 1) * per)], colour, "6,4",
@@ -385,15 +402,16 @@ def run(a):
         if part == "hx8k":
             builds += [(f"{part}-twh_wb-lean-{ch}", {"CHANNELS": str(ch), **FIFO, **LEAN},
                         "twh_wb (bare core), lean build") for ch in CHANNELS]
-            builds += [(f"{part}-twh_wb-engine0-{ch}", {"CHANNELS": str(ch), **FIFO, **ENGINE0},
-                        "twh_wb (bare core), ENGINE = 0") for ch in CORE_CHANNELS
-                       if ch <= 8]           # (ENGINE = 0 stops at 8 channels)
         for name, params, what in builds:
             r = synth.synth(part, "twh_wb", params, synth.core_sources(), mhz,
                             ROOT / "build" / "bench" / name)
             runs[name] = r
             rows.append((what, r))
             print(fmt_row(r, what), flush=True)
+        if part == "hx8k":
+            for what, r in engine0_rows():      # recorded, not measured
+                rows.append((what, r))
+                print(fmt_row(r, what), flush=True)
     if not a.no_boards:
         rows += board_runs(runs)
 
@@ -438,7 +456,6 @@ def run(a):
     per_ch = []
     bases = [(f"{part}-twh_wb", part) for part, _ in CORE_RUNS]
     bases.append(("hx8k-twh_wb-lean", "hx8k, lean build"))
-    bases.append(("hx8k-twh_wb-engine0", "hx8k, ENGINE = 0"))
     for base, what in bases:
         one, three, eight = (runs.get(f"{base}-{c}") for c in (1, 3, 8))
         if one and three:
@@ -507,7 +524,8 @@ median over seeds {SEEDS[0]}-{SEEDS[-1]} above:
 
 Logic cells against the channel count (`docs/lc-vs-channels.svg`, written
 by this bench): the time-shared engine, `ENGINE = 0` (one engine a channel
-in flip-flops, 1-8 channels) and issue 34's anchors, each drawn from this
+in flip-flops, 1-8 channels; retired, its figures recorded at {ENGINE0_COMMIT}, not
+measured) and issue 34's anchors, each drawn from this
 core's one-channel figure as if a further channel cost what a further
 line costs there (sockit_owm and LiteX SPI-MMAP serve one line at a time;
 a 16550 a port runs them concurrently).
@@ -521,8 +539,7 @@ for its CPU's bus:
 {chr(10).join(soc) or '(not measured: --no-boards)'}
 
 Where the area goes, and what is planned, is in docs/engine.md ("In the
-core", "Still to do"); ENGINE = 0's in docs/architecture.md ("Area and
-speed").
+core", "Still to do").
 """
         Path(ROOT / a.write).write_text(text)
         if lc_chart(runs, ROOT / "docs" / "lc-vs-channels.svg"):

@@ -33,10 +33,9 @@ ROOT = Path(__file__).resolve().parent.parent
 RTL_DIR = ROOT / "rtl"
 RDL_PATH = ROOT / "rdl" / "twh_regs.rdl"
 # the core's sources (no board or UART bridge files)
-RTL_FILES = ("twh_wb.v", "twh_core.v", "twh_channel.v", "twh_link.v", "twh_carrier.v",
-             "twh_checksum.v", "twh_demod.v", "twh_fifo.v", "twh_rx.v", "twh_sync2.v",
-             "twh_timing.v", "twh_window.v", "twh_ram.v", "twh_engine_pin.v", "twh_engine.v",
-             "twh_polls.v", "twh_core_engine.v", "twh_rx_dec.v", "twh_rx_step.v")
+RTL_FILES = ("twh_wb.v", "twh_core.v", "twh_carrier.v", "twh_checksum.v", "twh_fifo.v",
+             "twh_sync2.v", "twh_timing.v", "twh_window.v", "twh_ram.v", "twh_engine_pin.v",
+             "twh_engine.v", "twh_polls.v", "twh_core_engine.v", "twh_rx_dec.v", "twh_rx_step.v")
 
 
 @dataclass(frozen=True)

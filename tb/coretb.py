@@ -89,12 +89,12 @@ class Result:
 # those after it, so a master (or a check) reading there would see a
 # different bus on each simulator; at the falling edge both agree, and the
 # same bench runs on both (tb/simrun.py).
-def sweep_clocks(channels, prog_timing=1, polling=1, engine=1):
+def sweep_clocks(channels, prog_timing=1, polling=1):
     """The clocks after a reset in which the register port takes no
     request (docs/registers.md, "After a reset"): the reset sweep writes four
     words a channel, rounded up to a power of two and at least 16, then waits
     as long again; none with fixed timing and no poller."""
-    if not prog_timing and not (engine and polling):
+    if not prog_timing and not polling:
         return 0
     words = 16
     while words < 4 * channels:
@@ -359,16 +359,15 @@ class CoreTB:
         self.channels = _param(dut, "CHANNELS", "TWH_CHANNELS", 3)
         self.fifo_depth = _param(dut, "FIFO_DEPTH", "TWH_FIFO_DEPTH", 16)
         self.clk_hz = _param(dut, "CLK_HZ", "TWH_CLK_HZ", 12_000_000)
-        # the channels' engine (twh_core's ENGINE): 1, the time-shared one,
-        # queues four commands a channel behind the command FIFO and has one
-        # result register in front of the result FIFO
-        self.engine = _param(dut, "ENGINE", "TWH_ENGINE", 1)
         self.prog_timing = _param(dut, "PROG_TIMING", "TWH_PROG_TIMING", 1)
         self.polling = _param(dut, "POLLING", "TWH_POLLING", 1)
-        self.queue_depth = 4 if self.engine else 1
+        # the time-shared engine queues four commands a channel behind the
+        # command FIFO and has one result register in front of the result
+        # FIFO
+        self.queue_depth = 4
         # results held back while the result FIFO is full: one a channel,
         # and the engine's result register
-        self.held_results = self.channels + (1 if self.engine else 0)
+        self.held_results = self.channels + 1
         self.rm = regmap.load(channels=self.channels, fifo_depth=self.fifo_depth,
                               clk_hz=self.clk_hz)
         self.cells = tuple(cells)
@@ -421,7 +420,7 @@ class CoreTB:
                                              name=f"spec_ch{ch}",
                                              pin_log=f"pins_{ch:02d}.log" if many else f"pins_{ch}.log"))
         self.port = PortReady(d, sweep_clocks(self.channels, self.prog_timing,
-                                              self.polling, self.engine))
+                                              self.polling))
         self.port.start()
         self.bus = WishboneDriver(d, self.port) if self.bus_kind == 0 else AxiLiteDriver(d)
         self.bus.idle_inputs()

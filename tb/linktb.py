@@ -1,4 +1,5 @@
-"""Test-bench harness for one twh_link engine (tb/tb_link.v).
+"""Test-bench harness for one channel of the link (tb/tb_link.v: the
+time-shared engine with one channel).
 
 Drives the command stream, collects every result, and runs the independent
 spec monitor on the host pins for the whole test. A peripheral model is

@@ -13,8 +13,7 @@ module tb_core #(
     parameter integer FIFO_DEPTH = 16,
     parameter integer PROG_TIMING = 1,       // the core's feature parameters
     parameter integer POLLING    = 1,
-    parameter integer BUS        = 0,        // 0 Wishbone, 1 AXI4-Lite
-    parameter integer ENGINE     = 1         // the core's: its channels' engine
+    parameter integer BUS        = 0         // 0 Wishbone, 1 AXI4-Lite
 ) (
     input  wire        rst,
     // Wishbone B4 classic
@@ -131,21 +130,10 @@ module tb_core #(
     // each channel's phase and the FIFO levels, read out of the core by
     // hierarchical name (assigned in g_wb / g_axil below), and a byte
     // monitor per line that shows what travelled on it.
-    // each channel's phase: ENGINE = 1, the engine's `phase` (the core hands
-    // it to twh_timing as c_nx_fld); ENGINE = 0, twh_channel's STATE word
+    // each channel's phase: the engine's `phase` (the core hands it to
+    // twh_timing as c_nx_fld)
     wire [8*3-1:0] ch_phase;
-    // (a STATE word a channel with its phase in [2:0], from either source)
-    function [CHANNELS*32-1:0] st_view;
-        input [CHANNELS*32-1:0] c_st;
-        input [CHANNELS*3-1:0]  c_ph;
-        integer k;
-        begin
-            st_view = c_st;
-            if (ENGINE != 0)
-                for (k = 0; k < CHANNELS; k = k + 1) st_view[k*32 +: 3] = c_ph[k*3 +: 3];
-        end
-    endfunction
-    wire [CHANNELS*32-1:0] ch_state;
+    wire [CHANNELS*3-1:0] ch_ph;
     wire [15:0] cmd_level, res_level;
     wire [2:0]  phase_0 = ch_phase[2:0];
     wire [2:0]  phase_1 = ch_phase[5:3];
@@ -156,7 +144,7 @@ module tb_core #(
             assign ch_phase[8*3-1:CHANNELS*3] = {(8-CHANNELS)*3{1'b0}};
         end
         for (pn = 0; pn < CHANNELS; pn = pn + 1) begin : g_phase
-            assign ch_phase[pn*3 +: 3] = ch_state[pn*32 +: 3];
+            assign ch_phase[pn*3 +: 3] = ch_ph[pn*3 +: 3];
         end
     endgenerate
 
@@ -197,7 +185,7 @@ module tb_core #(
             twh_wb_netlist
 `else
             twh_wb #(.CLK_HZ(CLK_HZ), .CHANNELS(CHANNELS), .FIFO_DEPTH(FIFO_DEPTH),
-                     .PROG_TIMING(PROG_TIMING), .POLLING(POLLING), .ENGINE(ENGINE))
+                     .PROG_TIMING(PROG_TIMING), .POLLING(POLLING))
 `endif
                 dut (
                 .clk(clk), .rst(rst),
@@ -207,11 +195,11 @@ module tb_core #(
                 .irq(irq), .line_o(lo), .line_oe(loe), .line_i(li)
             );
 `ifdef TWH_NETLIST
-            assign ch_state = {(CHANNELS*32){1'b0}};
+            assign ch_ph = {(CHANNELS*3){1'b0}};
             assign cmd_level = 16'd0;
             assign res_level = 16'd0;
 `else
-            assign ch_state = st_view(dut.u_core.c_st, dut.u_core.c_nx_fld);
+            assign ch_ph = dut.u_core.c_nx_fld;
             assign cmd_level = dut.u_core.cmd_level16;
             assign res_level = dut.u_core.res_level16;
 `endif
@@ -221,7 +209,7 @@ module tb_core #(
             assign s_axil_rresp = 2'b00; assign s_axil_rvalid = 1'b0;
         end else begin : g_axil
             twh_axil #(.CLK_HZ(CLK_HZ), .CHANNELS(CHANNELS), .FIFO_DEPTH(FIFO_DEPTH),
-                     .PROG_TIMING(PROG_TIMING), .POLLING(POLLING), .ENGINE(ENGINE)) dut (
+                     .PROG_TIMING(PROG_TIMING), .POLLING(POLLING)) dut (
                 .clk(clk), .rst(rst),
                 .s_axil_awaddr(s_axil_awaddr), .s_axil_awprot(s_axil_awprot),
                 .s_axil_awvalid(s_axil_awvalid), .s_axil_awready(s_axil_awready),
@@ -235,7 +223,7 @@ module tb_core #(
                 .s_axil_rvalid(s_axil_rvalid), .s_axil_rready(s_axil_rready),
                 .irq(irq), .line_o(lo), .line_oe(loe), .line_i(li)
             );
-            assign ch_state = st_view(dut.u_core.c_st, dut.u_core.c_nx_fld);
+            assign ch_ph = dut.u_core.c_nx_fld;
             assign cmd_level = dut.u_core.cmd_level16;
             assign res_level = dut.u_core.res_level16;
             assign wb_dat_o = 32'd0; assign wb_ack_o = 1'b0; assign wb_err_o = 1'b0;
@@ -244,7 +232,8 @@ module tb_core #(
 endmodule
 
 // Byte monitor of one simulated 2-wire line, for the waveform viewer and the
-// tests only (behavioural; the core's own receiver is twh_demod + twh_rx).
+// tests only (behavioural; the core's own receiver is the engine's:
+// twh_engine_pin's carrier detection, twh_rx_step / twh_rx_dec).
 // It demodulates the on-off-keyed line itself and decodes 8N1/8N2 characters
 // in both directions, so it shows what really travelled on the wire, not
 // what the core meant to send or believes it received.
@@ -267,7 +256,7 @@ module tb_bytemon (
     output reg  [23:0] word
 );
     localparam real BIT_NS   = 32000.0;   // 31.25 kbps
-    localparam real HOLD_NS  = 1500.0;    // bridges the carrier's low halves, as twh_demod
+    localparam real HOLD_NS  = 1500.0;    // bridges the carrier's low halves
     localparam real SPIKE_NS = 100.0;     // shorter highs are not carrier
     localparam real GAP_NS   = 1.0e6;     // a longer pause between bytes ends a frame
 

@@ -12,8 +12,7 @@ module tb_core_many #(
     parameter integer FIFO_DEPTH = 16,
     parameter integer PROG_TIMING = 1,
     parameter integer POLLING    = 1,
-    parameter integer BUS        = 0,        // Wishbone only (CoreTB reads it)
-    parameter integer ENGINE     = 1
+    parameter integer BUS        = 0         // Wishbone only (CoreTB reads it)
 ) (
     input  wire        rst,
     input  wire [10:0] wb_adr_i,
@@ -33,7 +32,7 @@ module tb_core_many #(
 
     wire [CHANNELS-1:0] lo, loe, li;
     twh_wb #(.CLK_HZ(CLK_HZ), .CHANNELS(CHANNELS), .FIFO_DEPTH(FIFO_DEPTH),
-             .PROG_TIMING(PROG_TIMING), .POLLING(POLLING), .ENGINE(ENGINE)) dut (
+             .PROG_TIMING(PROG_TIMING), .POLLING(POLLING)) dut (
         .clk(clk), .rst(rst),
         .wb_adr_i(wb_adr_i), .wb_dat_i(wb_dat_i), .wb_dat_o(wb_dat_o),
         .wb_we_i(wb_we_i), .wb_sel_i(wb_sel_i), .wb_stb_i(wb_stb_i),

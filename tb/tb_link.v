@@ -1,9 +1,10 @@
-// Test-bench top for one twh_link engine, or (ENGINE = 1) the time-shared
-// engine (twh_engine) with one channel behind the same ports, so that the
-// link engine's cases run against it unchanged (test_link_engine): the
-// engine takes the lengths twh_timing hands over by number (dur_v, dur_ch)
-// and names the field its next phase loads; it is always enabled, never
-// flushed and never polls here (the core's tests cover those).
+// Test-bench top for one channel of the link: the time-shared engine
+// (twh_engine) with one channel, behind the one-channel ports the link's
+// cases (tb/test_twh_link.py) drive: command and result streams, the phase
+// lengths from inputs. The engine takes the lengths twh_timing hands over
+// by number (dur_v, dur_ch) and names the field its next phase loads
+// (fld); it is always enabled, never flushed and never polls here (the
+// core's tests cover those).
 //
 // The clock is generated here (not from Python) because a Python-driven clock
 // costs ~20x the simulation time. Everything else (config, command/result
@@ -16,8 +17,7 @@
 `timescale 1ns/1ps
 `default_nettype none
 module tb_link #(
-    parameter integer CLK_HZ = 12_000_000,
-    parameter integer ENGINE = 0
+    parameter integer CLK_HZ = 12_000_000
 ) (
     input  wire        rst,
     // timing configuration, microseconds
@@ -129,55 +129,38 @@ module tb_link #(
     twh_carrier #(.CLK_HZ(CLK_HZ)) u_carrier (.clk(clk), .rst(rst), .tick(tick), .tick_nx(tick_nx),
                                               .fall(fall));
 
-    generate
-        if (ENGINE == 0) begin : g_link
-            twh_link #(.CLK_HZ(CLK_HZ), .TAG_W(8)) dut (
-                .clk(clk), .rst(rst), .tick(tick), .tick_nx(tick_nx), .fall(fall),
-                .nx_fld(nx_fld), .dur_we(dur_we), .dur_in(dur), .dur_fld_in(dur_fld),
-                .cfg_idle_charge(cfg_idle_charge),
-                .s_cmd_valid(s_cmd_valid && s_open), .s_cmd_ready(s_ready_e),
-                .s_cmd_code(s_cmd_code), .s_cmd_payload(s_cmd_payload), .s_cmd_tag(s_cmd_tag),
-                .s_cmd_skip(s_cmd_skip),
-                .m_res_valid(m_res_valid), .m_res_ready(m_res_ready),
-                .m_res_code(m_res_code), .m_res_data(m_res_data),
-                .m_res_status(m_res_status), .m_res_tag(m_res_tag),
-                .line_o(line_o), .line_oe(line_oe), .line_i(line_i),
-                .phase(phase), .busy(busy)
-            );
-            // verilator lint_off UNUSEDSIGNAL
-            wire unused = &{1'b0, dur_v, dur_ch};
-            // verilator lint_on UNUSEDSIGNAL
-        end else begin : g_engine
-            wire        scan_unused, res_ch_unused, p_take_unused, p_res_unused, p_ch_unused;
-            wire        pending_unused, full_unused, cancelling_unused;
-            wire [15:0] p_data_unused;
-            wire [3:0]  p_status_unused;
-            wire [11:0] p_count_unused;
-            twh_engine #(.CLK_HZ(CLK_HZ), .CHANNELS(1), .TAG_W(8)) dut (
-                .clk(clk), .rst(rst), .tick(tick), .fall(fall),
-                .cfg_idle_charge(cfg_idle_charge), .enable(1'b1), .cancel(1'b0),
-                .poll_req(1'b0), .poll_cmd(16'd0), .scan_ch(scan_unused),
-                .t_we(dur_v), .t_ch(dur_ch[0]), .t_fld(dur_fld), .t_len(dur),
-                .s_cmd_valid(s_cmd_valid && s_open), .s_cmd_ready(s_ready_e), .s_cmd_ch(1'b0),
-                .s_cmd_code(s_cmd_code), .s_cmd_payload(s_cmd_payload), .s_cmd_tag(s_cmd_tag),
-                .s_cmd_skip(s_cmd_skip),
-                .m_res_valid(m_res_valid), .m_res_ready(m_res_ready), .m_res_ch(res_ch_unused),
-                .m_res_code(m_res_code), .m_res_data(m_res_data),
-                .m_res_status(m_res_status), .m_res_tag(m_res_tag),
-                .line_o(line_o), .line_oe(line_oe), .line_i(line_i),
-                .busy(busy), .pending(pending_unused),
-                .full(full_unused), .cancelling(cancelling_unused), .phase(phase), .fld(nx_fld),
-                .p_take(p_take_unused), .p_res(p_res_unused), .p_ch(p_ch_unused),
-                .p_data(p_data_unused), .p_status(p_status_unused), .p_count(p_count_unused)
-            );
-            // verilator lint_off UNUSEDSIGNAL
-            wire unused = &{1'b0, dur_we, dur_ch[4:1], tick_nx, scan_unused, res_ch_unused,
-                            pending_unused, full_unused, cancelling_unused,
-                            p_take_unused, p_res_unused, p_ch_unused, p_data_unused,
-                            p_status_unused, p_count_unused};
-            // verilator lint_on UNUSEDSIGNAL
-        end
-    endgenerate
+    wire        scan_unused, res_ch_unused, p_take_unused, p_res_unused, p_ch_unused;
+    wire        pending_unused, full_unused, cancelling_unused;
+    wire [15:0] p_data_unused;
+    wire [3:0]  p_status_unused;
+    wire [11:0] p_count_unused;
+    twh_engine #(.CLK_HZ(CLK_HZ), .CHANNELS(1), .TAG_W(8)) dut (
+        .clk(clk), .rst(rst), .tick(tick), .fall(fall),
+        .cfg_idle_charge(cfg_idle_charge), .enable(1'b1), .cancel(1'b0),
+        .poll_req(1'b0), .poll_cmd(16'd0), .scan_ch(scan_unused),
+        .t_we(dur_v), .t_ch(dur_ch[0]), .t_fld(dur_fld), .t_len(dur),
+        .s_cmd_valid(s_cmd_valid && s_open), .s_cmd_ready(s_ready_e), .s_cmd_ch(1'b0),
+        .s_cmd_code(s_cmd_code), .s_cmd_payload(s_cmd_payload), .s_cmd_tag(s_cmd_tag),
+        .s_cmd_skip(s_cmd_skip),
+        .m_res_valid(m_res_valid), .m_res_ready(m_res_ready), .m_res_ch(res_ch_unused),
+        .m_res_code(m_res_code), .m_res_data(m_res_data),
+        .m_res_status(m_res_status), .m_res_tag(m_res_tag),
+        .line_o(line_o), .line_oe(line_oe), .line_i(line_i),
+        .busy(busy), .pending(pending_unused),
+        .full(full_unused), .cancelling(cancelling_unused), .phase(phase), .fld(nx_fld),
+        .p_take(p_take_unused), .p_res(p_res_unused), .p_ch(p_ch_unused),
+        .p_data(p_data_unused), .p_status(p_status_unused), .p_count(p_count_unused)
+    );
+    // The pin's glitch filter seen from outside (test_twh_link.py's
+    // clock_conformance): a filtered high came in the engine's window since
+    // its last visit, the flag its receiver samples.
+    wire pin_hi = dut.g_ch[0].g_on.u_pin.now_w;
+    // verilator lint_off UNUSEDSIGNAL
+    wire unused = &{1'b0, dur_we, dur_ch[4:1], tick_nx, scan_unused, res_ch_unused,
+                    pending_unused, full_unused, cancelling_unused,
+                    p_take_unused, p_res_unused, p_ch_unused, p_data_unused,
+                    p_status_unused, p_count_unused};
+    // verilator lint_on UNUSEDSIGNAL
 
     // `make demo` asks for a small VCD of the pins with +vcd=<file>.
     reg [1023:0] vcd_file;

@@ -69,10 +69,6 @@ ERROR = {
     "CHANNELS": f"twh_error_CHANNELS_must_be_{CH_MIN}_to_{CH_MAX}",
     "FIFO_DEPTH": f"twh_error_FIFO_DEPTH_must_be_a_power_of_two_{FD_MIN}_to_{FD_MAX}",
     "CLK_HZ": f"twh_error_CLK_HZ_must_be_{CLK_MIN // 1_000_000}MHz_to_{CLK_MAX // 1_000_000}MHz",
-    "ENGINE": f"twh_error_ENGINE_must_be_0_or_{_localparam(CORE_V, 'ENGINE_MAX')}",
-    # ENGINE = 0 (one twh_channel a channel) stops at fewer channels
-    "CHANNELS_ENGINE0": f"twh_error_CHANNELS_must_be_{CH_MIN}_to_"
-                        f"{_localparam(CORE_V, 'CHANNELS_ENGINE0_MAX')}_with_ENGINE_0",
 }
 
 # the time-shared engine on its own (issue 34, docs/engine.md; the bus tops'
@@ -114,7 +110,6 @@ BAD = [
     ("twh_axil", "CLK_HZ",     250_000_000),
     ("twh_wb",   "FIFO_DEPTH", 24),
     ("twh_axil", "FIFO_DEPTH", 2 * FD_MAX),
-    ("twh_wb",   "ENGINE",     2),
 ]
 # the legal ends of the ranges, all in one build
 GOOD = [
@@ -135,7 +130,7 @@ def test_ranges_agree():
     assert CH_MIN - 1 < CH_MIN and CH_MAX < CH_MAX + 1
     assert not CLK_MIN <= 3_000_000 <= CLK_MAX and not CLK_MIN <= 250_000_000 <= CLK_MAX
     assert FD_MIN <= 24 <= FD_MAX and 24 & 23
-    for path, names in ((CORE_V, ("CHANNELS", "FIFO_DEPTH", "ENGINE", "CHANNELS_ENGINE0")),
+    for path, names in ((CORE_V, ("CHANNELS", "FIFO_DEPTH")),
                         (CARRIER_V, ("CLK_HZ",))):
         text = path.read_text()
         for name in names:
@@ -234,13 +229,11 @@ def test_engine_floor_ends_elaborate(tools, tool, params, tmp_path):
 
 
 
-# The bus tops with the time-shared engine (ENGINE = 1): a clock below its
-# floor for CHANNELS is named by the core's twh_carrier, once, and a clock
-# outside the carrier's own range (or a fraction it refuses) by the carrier's
-# own error alone, never with the floor's beside it. With ENGINE = 0 more
-# than its 8 channels are named by their own error.
+# The bus tops (the time-shared engine): a clock below its floor for
+# CHANNELS is named by the core's twh_carrier, once, and a clock outside the
+# carrier's own range (or a fraction it refuses) by the carrier's own error
+# alone, never with the floor's beside it.
 CORE_FLOOR_BAD = [
-    ("twh_wb",   {"CHANNELS": 9, "ENGINE": 0, "CLK_HZ": 12_000_000}, ERROR["CHANNELS_ENGINE0"]),
     ("twh_axil", {"CHANNELS": 32, "CLK_HZ": 24_000_000}, ENGINE_ERROR["CLK_HZ"]),
     ("twh_wb",   {"CHANNELS": 8, "CLK_HZ": 4_000_000}, ENGINE_ERROR["CLK_HZ"]),
     ("twh_axil", {"CHANNELS": 4, "CLK_HZ": 4_000_000}, ENGINE_ERROR["CLK_HZ"]),

@@ -1,6 +1,7 @@
 """The sigrok protocol decoder (tools/sigrok/twowire) on simulated captures.
 
-Each test runs a short tb_link simulation at 4 MHz against the behavioural
+Each test runs a short tb_link simulation (the time-shared engine with one
+channel) at 4 MHz against the behavioural
 peripheral (tb/sigrok_capture.py), dumps the pins to a VCD and decodes it
 with Debian's sigrok-cli (installed by scripts/bootstrap.sh; the test fails
 when it is missing). Icarus writes the VCD with a 1 ps timescale: the vcd

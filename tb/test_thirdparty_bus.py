@@ -112,8 +112,7 @@ class WbThirdParty:
         self.native = tb.bus            # coretb.WishboneDriver: its cycle check
         # clocks: the core answers in two, and after a reset once its reset
         # sweep is over (the project's watcher checks the exact clock)
-        self.ACK_TIMEOUT = 2 + coretb.sweep_clocks(tb.channels, tb.prog_timing, tb.polling,
-                                                   tb.engine)
+        self.ACK_TIMEOUT = 2 + coretb.sweep_clocks(tb.channels, tb.prog_timing, tb.polling)
         self.master = WishboneMaster(tb.dut, "wb", tb.dut.clk, timeout=self.ACK_TIMEOUT,
                                      signals_dict=dict(self.SIGNALS))
 

@@ -844,22 +844,18 @@ async def irq_and_flush(dut):
     assert [len(tb.txns(ch)) for ch in range(tb.channels)] == n_line
     assert await tb.errors() == 0
 
-    # ---- flush while running: A (ch0) and E (ch1) run, B and F wait in the
-    # slots, C and D in the FIFO (C holds D back: head of line); with the
-    # time-shared engine all of them wait in their channels' queues
+    # ---- flush while running: A (ch0) and E (ch1) run, the others wait in
+    # their channels' queues
     await tb.write_fields("CTRL", ENABLE=1)
     order = [(0, 20, 0x41), (1, 21, 0x42), (0, 22, 0x43), (1, 23, 0x44), (0, 24, 0x40), (0, 25, 0x41)]
     for ch, tag, cmd in order:
         await tb.push(cmd, ch=ch, tag=tag)
 
     await tb.wait_until(lambda: _running(tb, (0, 1)), timeout_ms=5, poll_us=20)
-    if tb.engine:
-        # every command reaches its channel's queue (each waits at most a
-        # carrier period for its channel's visit): none is held behind another
-        await tb.wait_until(lambda: _cmd_level_is(tb, 0), timeout_ms=1, poll_us=2)
-        assert await _running(tb, (0, 1))
-    else:
-        assert (await tb.fields("LEVELS")).CMD_LEVEL == 2
+    # every command reaches its channel's queue (each waits at most a
+    # carrier period for its channel's visit): none is held behind another
+    await tb.wait_until(lambda: _cmd_level_is(tb, 0), timeout_ms=1, poll_us=2)
+    assert await _running(tb, (0, 1))
     await tb.write_fields("CTRL", ENABLE=1, FLUSH=1)
     assert (await tb.fields("STATUS")).FLUSHING == 1
     res = await tb.wait_results(6, timeout_ms=20)
@@ -874,7 +870,7 @@ async def irq_and_flush(dut):
     assert r.status == NO_RESPONSE, r
 
     # ---- ENABLE = 0 mid-transaction: the running one finishes, the next
-    # waits in the slot (queued: BUSY), nothing starts, no poll runs
+    # waits in its queue (queued: BUSY), nothing starts, no poll runs
     await tb.push(0x40, ch=2, tag=27)
     await tb.push(0x43, ch=2, tag=28)
     await tb.wait_until(lambda: _running(tb, (2,)), timeout_ms=10, poll_us=20)
@@ -919,7 +915,7 @@ async def irq_and_flush(dut):
     assert late.status != CANCELLED, "a command pushed after the flush was cancelled by it"
     assert await tb.errors() == 0, "CANCELLED results set an error bit"
     # checked last so that the rest of the test runs first
-    assert busy & 0b100, f"command queued in ch2's slot (ENABLE = 0), BUSY = {busy:#x}"
+    assert busy & 0b100, f"command queued in ch2's queue (ENABLE = 0), BUSY = {busy:#x}"
     await tb.finish()
 
 
@@ -1213,7 +1209,6 @@ def run_core(testcase, bus, clk_hz=12_000_000, channels=3, fifo_depth=16, env=No
     name = name or core_name(testcase, bus, channels)
     extra = {"TWH_BUS": str(bus), "TWH_CHANNELS": str(channels),
              "TWH_FIFO_DEPTH": str(fifo_depth), "TWH_CLK_HZ": str(clk_hz),
-             "TWH_ENGINE": str((features or {}).get("ENGINE", 1)),
              "TWH_PROG_TIMING": str((features or {}).get("PROG_TIMING", 1)),
              "TWH_POLLING": str((features or {}).get("POLLING", 1))}
     extra.update(env or {})
@@ -1313,14 +1308,3 @@ def test_core_16ch():
 @pytest.mark.slow
 def test_core_32ch():
     _many(32, 32_000_000)
-
-
-# ENGINE = 0, the per-channel twh_channel array the time-shared engine
-# replaces: its own regression while the switch exists (make test-slow), the
-# shared configuration's cases on Verilator.
-@pytest.mark.slow
-@pytest.mark.parametrize("testcase,bus,clk_hz,channels,fifo_depth", BOTH, ids=[_id(c) for c in BOTH])
-def test_core_engine0(testcase, bus, clk_hz, channels, fifo_depth):
-    run_core(testcase, bus, clk_hz=clk_hz, channels=channels, fifo_depth=fifo_depth,
-             features={"ENGINE": 0}, sim="verilator",
-             name=core_name(testcase, bus, channels) + "_engine0")

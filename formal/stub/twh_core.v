@@ -16,7 +16,6 @@ module twh_core #(
     parameter integer FIFO_DEPTH = 16,
     parameter integer PROG_TIMING = 1,   // the real core's feature parameters: the
     parameter integer POLLING     = 1,   // wrappers pass them on; nothing here uses them
-    parameter integer ENGINE      = 1,
     parameter integer RAM_BLOCK   = 1
 ) (
     input  wire                clk,

@@ -13,7 +13,7 @@ What a value means depends on its width:
   sigrok decoder's byte row: "H: 41 FIRMWARE", "H: AA arg", "H: 14 chk OK"
   from the host, "P: 12 FIRMWARE MSB", "P: 01 LSB", "P: EC chk OK" from the
   peripheral.
-- 1 or 2 hex digits: a command byte, e.g. twh_link's s_cmd_code or m_res_code:
+- 1 or 2 hex digits: a command byte, e.g. tb_link's s_cmd_code or m_res_code:
   "41 FIRMWARE".
 Anything else (X, Z, other widths) is passed back unchanged.
 

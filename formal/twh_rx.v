@@ -1,5 +1,10 @@
 // UART receiver for the peripheral's 3-byte answer, on the demodulated
 // envelope, timed by the 1 us carrier tick.
+// The reference model of the engine's receiver: it is no part of the core
+// (rtl/). Its proof (formal/twh_rx.sby, tasks prove and uart) states the
+// receiver's rules here, and task equiv proves the time-shared engine's
+// receiver word (rtl/twh_rx_step.v, rtl/twh_rx_dec.v) equal to it. (It was
+// the receiver of twh_link, the per-channel engine of ENGINE = 0, retired.)
 //
 // - The first start bit counts only after at least half a bit (16 us) of
 //   mark, so a line that merely wakes up or a lone glitch is not a start.
@@ -15,7 +20,7 @@
 //   the answer counts as short, not as a framing error.
 // - 30.75-31.75 kbps: after 9.5 bits the sampling drift is at most ~5 us.
 // Clearing `en` (outside the listen phase) clears everything.
-// Input contract (twh_link keeps it, and its proof checks it): `tick_nx`
+// Input contract (its proof assumes it; twh_carrier's tick keeps it): `tick_nx`
 // says a clock ahead that `tick` comes (twh_carrier's), a tick never comes
 // in two clocks running, and at a tick `en` is what it was a clock before,
 // or 0 if reset was on then. So whether a tick steps the receiver (`step`:
@@ -158,7 +163,8 @@ module twh_rx (
         f_past_valid <= 1'b1;
         f_past_ok       <= f_ok && !rst && en;
     end
-    // the input contract (asserted on twh_link's instance by its proof)
+    // the input contract (assumed here: twh_carrier's tick and an en that
+    // changes only between ticks)
     always @(posedge clk)
         if (f_ok && f_past_valid && tick)
             assume(!$past(tick) && en == ($past(en) && !$past(rst)));
@@ -398,7 +404,7 @@ module twh_rx (
     // shows the decodes it takes a clock ahead are the word's), cleared
     // where this receiver clears, on the same envelope. Its word is
     // proven to hold this receiver's state field for field, and its
-    // verdict (status, data) to be twh_link's from this receiver's
+    // verdict (status, data) to be the one below from this receiver's
     // outputs, so every property above, and task uart's, holds of it.
     reg  [`TWH_RX_W-1:0] e_w;
     wire [`TWH_RX_W-1:0] e_n;
@@ -425,7 +431,8 @@ module twh_rx (
     wire [3:0] f_j = active ? ((bitn == 4'd0) ? 4'd0 : (bitn == 4'd9) ? 4'd8 :
                                bitn - 4'd1 + {3'd0, sub > 5'd19})
                             : ((frame_err || ended) ? 4'd8 : 4'd0);
-    // twh_link's verdict from this receiver's outputs (line not stuck)
+    // the answer's verdict from this receiver's outputs (line not stuck), as
+    // the retired twh_link gave it
     reg [3:0] f_status;
     always @(*) begin
         if (frame_err)            f_status = `TWH_ST_FRAMING;
