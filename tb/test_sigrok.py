@@ -29,7 +29,7 @@ def capture(testcase):
     raw = out / f"{testcase}.raw.vcd"
     simrun.run("tb_link", "sigrok_capture", f"sigrok_{testcase}",
                parameters={"CLK_HZ": 4_000_000}, testcase=testcase,
-               tb_sources=["tb_link.v"], plusargs=[f"+vcd={raw}"], vcd=True,
+               tb_sources=["tb_engine1.v", "tb_link.v"], plusargs=[f"+vcd={raw}"], vcd=True,
                extra_env=QUIET)
     # libsigrok 0.5.2's VCD input stops reading at the first multi-digit
     # vector value ("b10 $", the 3-bit phase); keep the 1-bit signals only.

@@ -581,7 +581,7 @@ async def clock_conformance(dut):
 # ---------------------------------------------------------------- pytest
 import simrun  # noqa: E402
 
-LINK_SOURCES = ["tb_link.v"]
+LINK_SOURCES = ["tb_engine1.v", "tb_link.v"]
 LINK_NAMES = [
     "commands_o2_v15", "commands_o2_v18", "commands_o2_v26", "commands_co2",
     "commands_co2_stick", "fault_statuses", "response_tolerance", "late_response",
