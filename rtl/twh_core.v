@@ -420,7 +420,8 @@ module twh_core #(
     );
 
     // ------------------------------------------------------------ channels
-    wire [CHANNELS-1:0] c_sample, c_poll_err, c_sbusy;
+    wire [CHANNELS-1:0] c_sample, c_sbusy;
+    wire                c_poll_err;       // a poll's result with an error status (any channel)
     wire [CHANNELS*3-1:0] c_nx_fld;   // per channel: its phase (twh_timing decodes the field)
 
     // A channel register write starts from the request stage: its value's
@@ -464,7 +465,7 @@ module twh_core #(
         .wdata(q_wdata), .pc_wr(q_wp && wr && q_win_p), .rd_ctrl(q_r_pc),
         .rd_res(q_r_pr), .rd_state(q_r_st), .reg_ch(q_blk), .rd_data(p_rdata),
         .nx_ph(c_nx_fld), .dur_v(t_dur_v), .dur_ch(t_dur_ch), .dur(t_dur),
-        .dur_fld(t_dur_fld), .poll_sample(c_sample), .poll_error(c_poll_err[0]),
+        .dur_fld(t_dur_fld), .poll_sample(c_sample), .poll_error(c_poll_err),
         .cmd_valid(dispatch), .cmd_ch(disp_ch), .cmd_code(h_cmd),
         .cmd_payload(h_payload), .cmd_tag(h_tag), .cmd_skip(h_skip),
         .cancel(flush_wr), .full(slot_full), .cancelling(e_cancelling),
@@ -473,11 +474,6 @@ module twh_core #(
         .status_busy(c_sbusy)
     );
     genvar n;
-    generate
-        if (CHANNELS > 1) begin : g_err
-            assign c_poll_err[CHANNELS-1:1] = {(CHANNELS-1){1'b0}};
-        end
-    endgenerate
     // (the engine steps on the tick itself; it takes the lengths by number,
     // dur_v and dur_ch, not twh_timing's one-hot dur_we)
     // verilator lint_off UNUSEDSIGNAL
@@ -574,8 +570,8 @@ module twh_core #(
                 err_blocked     <= disp_blk_err;
             if ((q_errors && q_wdata[3]) || (push_req && push_bad_ch))
                 err_bad_channel <= push_req && push_bad_ch;
-            if ((q_errors && q_wdata[4]) || push_link_err || |c_poll_err)
-                err_link        <= push_link_err || |c_poll_err;
+            if ((q_errors && q_wdata[4]) || push_link_err || c_poll_err)
+                err_link        <= push_link_err || c_poll_err;
             if (q_poll_ready || c_sample != 0)
                 poll_ready <= (q_poll_ready ? (poll_ready & ~q_wdata[CH_N-1:0]) : poll_ready) | c_sample;
         end
