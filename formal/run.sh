@@ -3,7 +3,8 @@
 # exits non-zero if any job did not pass.
 #   [JOBS=n] formal/run.sh twh_fifo:prove_d4 twh_wb:prove ...
 # A job is <file in formal/ without .sby>:<task>. Work directories go to
-# build/formal/<file>_<task>/ (sby's logfile.txt, traces in engine_0/); the
+# build/formal/<file>_<task>/sby_<task>/ (sby's logfile.txt, traces in
+# engine_0/; the job's status database beside it); the
 # tool output of each job is kept in build/formal/<file>_<task>.log.
 # Jobs run under nice, one after the other by default (the machine is
 # shared); JOBS=n (make formal FORMAL_AT_ONCE=n; CI, on a machine of
@@ -23,7 +24,12 @@ run_one() {
     local log=build/formal/${file}_${task}.log res=build/formal/${file}_${task}.result
     local t0 t1 verdict
     t0=$(date +%s.%N)
-    if nice "${sby[@]}" -f --prefix "build/formal/$file" "formal/$file.sby" "$task" >"$log" 2>&1; then
+    # a prefix of its own for each job: sby keeps its status database in the
+    # prefix's directory, and two tasks of one .sby side by side (JOBS=2)
+    # sharing it can fail on the database ("disk I/O error")
+    rm -rf "build/formal/${file}_${task}"
+    if nice "${sby[@]}" -f --prefix "build/formal/${file}_${task}/sby" "formal/$file.sby" "$task" \
+        >"$log" 2>&1; then
         verdict=PASS
     else
         verdict=FAIL
