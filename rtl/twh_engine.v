@@ -9,8 +9,10 @@
 //
 // The scan. The carrier's tick starts a scan: channel c is read (S0) in the
 // (c+1)th clock after the tick, its word and operands come out of the RAMs
-// (S1) and are registered (S2), the next word and the queue's and result's
-// moves are computed from them and registered (S3), and written three
+// (S1) and are registered (S2; the length and a poll's command are read at
+// S1 into their RAMs' own registers), the next word and the queue's moves
+// are computed from them and registered (S3; a result handed over goes
+// into the result register there and then), and written three
 // clocks after the read, while the drive for the next period is computed
 // from the new word (S4: the pin takes it a clock later). A channel is read
 // again a carrier period (P clocks, P >= 4) after its last read, so it
@@ -87,7 +89,8 @@ module twh_engine #(
     input  wire [CHANNELS-1:0] poll_req,       // per channel: its poll is due (armed, enabled)
     input  wire [15:0]         poll_cmd,       // {payload, code} of the poll of the channel
                                                // at scan_ch a clock before (a RAM's read)
-    output wire [CW-1:0]       scan_ch,        // the channel S0 reads
+    output wire [CW-1:0]       scan_ch,        // the channel S1 takes (a poll command's
+                                               // read, so the RAM's own register is S2's)
     // phase lengths, microseconds, clamped: field 1 charge .. 6 turnaround
     input  wire                t_we,
     input  wire [CW-1:0]       t_ch,
@@ -219,7 +222,6 @@ module twh_engine #(
             s0_ch <= s0_ch + 1'b1;
         end
     end
-    assign scan_ch = s0_ch;
 
     // the timing field the phase after `p` loads (twh_defs.vh)
     function [2:0] fld_of;
@@ -228,6 +230,10 @@ module twh_engine #(
     endfunction
 
     // ------------------------------------------------------------ RAMs
+    reg           s1_v, s1_init, s1_env;
+    reg [CW-1:0]  s1_ch;
+    reg [CTW-1:0] s1_c;
+    assign scan_ch = s1_ch;
     wire [W-1:0]  st_rd;
     reg  [W-1:0]  s3_word;
     reg           s3_v;
@@ -330,19 +336,21 @@ module twh_engine #(
     );
     assign s_cmd_ready = !b_v && !full_m[s_cmd_ch];
 
+    // The timing RAM is read a clock later than the state word (S1, from the
+    // registered control word), so its own output register is the length's
+    // S2 register: no copy of it in flip-flops. (The length is data into
+    // the step's multiplexer, not a select, so the RAM's slower output is
+    // off the step's longest paths.)
     wire [15:0] t_rd;
     twh_ram #(.W(16), .AW(CW + 3), .BLOCK(RAM_BLOCK)) u_timing (
         .clk(clk), .we(t_we), .waddr({t_ch, t_fld}), .wdata(t_len),
-        .raddr({s0_ch, fld_of(c0[C_PH +: 3])}), .rdata(t_rd)
+        .raddr({s1_ch, fld_of(s1_c[C_PH +: 3])}), .rdata(t_rd)
 `ifdef FORMAL
         , .f_addr({f_ch, f_tf}), .f_data(f_tm)
 `endif
     );
 
     // ------------------------------------------------------------ S1, S2
-    reg           s1_v, s1_init, s1_env;
-    reg [CW-1:0]  s1_ch;
-    reg [CTW-1:0] s1_c;
     always @(posedge clk) begin
         s1_v    <= !rst && s0_v;
         s1_ch   <= s0_ch;
@@ -375,11 +383,10 @@ module twh_engine #(
     reg [CW-1:0]  s2_ch;
     reg [W-1:0]   s2_w;
     reg [QE-1:0]  s2_q;
-    reg [15:0]    s2_len;
+    wire [15:0]   s2_len = t_rd;    // (the timing RAM's register: read at S1)
     reg           s2_pr, s2_cc;
     reg [QW:0]    s2_ccnt;
     reg [CTW-1:0] s2_c;
-    reg [15:0]    s2_pc;
     always @(posedge clk) begin
         s2_v    <= !rst && s1_v;
         s2_ch   <= s1_ch;
@@ -395,13 +402,12 @@ module twh_engine #(
         s2_ok   <= d1_ok;
         s2_last <= s1_init ? (st_rd[18:4] == 15'd0) : 1'b0;
         s2_q    <= q_rd;
-        s2_len  <= t_rd;
         // what the step chooses from, taken a clock ahead (off the step's
-        // path): the poll's request and command together, so a poll-control
-        // write in between starts at most the poll that was due, with the
-        // command it was checked with; a flush's count
+        // path): the poll's request, in the clock twh_polls reads its
+        // command (scan_ch), so a poll-control write in between starts at
+        // most the poll that was due, with the command it was checked with;
+        // a flush's count
         s2_pr   <= !rst && poll_req[s1_ch];
-        s2_pc   <= poll_cmd;
         s2_ccnt <= c1_cc;
         s2_cc   <= c1_cc != {(QW+1){1'b0}};
     end
@@ -420,10 +426,15 @@ module twh_engine #(
     wire [TAG_W-1:0] q_tag  = s2_q[2 +: TAG_W];
     wire [3:0]       q_skip = (s2_q[1:0] == SK_CANCELLED) ? `TWH_ST_CANCELLED :
                               (s2_q[1:0] == SK_BLOCKED)   ? `TWH_ST_BLOCKED : 4'd0;
-    // the frame's checksum (NOTES.md: one's complement of the 8-bit sum),
+    // The frame the command phase sends: the queue's head, or a poll's code
+    // and payload from its word (SH), a 3-byte frame; its checksum
+    // (NOTES.md: one's complement of the 8-bit sum) is taken here for both,
     // off the step's path: it goes only into s3_q
-    wire [7:0]       q_chk;
-    twh_checksum u_chk (.a(q_code), .b(q_pmsb), .c(q_plsb), .chk(q_chk));
+    wire [7:0]       f_code = w[PL] ? w[SH +: 8]   : q_code;
+    wire [7:0]       f_pmsb = w[PL] ? 8'd0         : q_pmsb;
+    wire [7:0]       f_plsb = w[PL] ? w[SH+8 +: 8] : q_plsb;
+    wire [7:0]       f_chk;
+    twh_checksum u_chk (.a(f_code), .b(f_pmsb), .c(f_plsb), .chk(f_chk));
 
     // the receiver: its fields (data bits at SH) and the answer's verdict
     wire [15:0] r_sh      = w[SH +: 16];
@@ -432,14 +443,13 @@ module twh_engine #(
     wire [UW-1:0] rx_n;
     twh_rx_step u_rstep (.rx(w[U0 +: UW]), .dec(s2_rdec), .env(env), .rx_n(rx_n));
 
-    // the result register is free for this visit (a load in flight counts)
-    reg  s3_res;
-    wire res_free = !m_res_valid && !(s3_v && s3_res);
+    // the result register is free for this visit (it is loaded at S2, from
+    // the word and the queue's head, so no load is in flight)
+    wire res_free = !m_res_valid;
     // The register's claim: a result handed over stays in it for a clock
-    // or two (S3, then until the result FIFO takes it), so the two
-    // channels visited before a channel can keep it busy at every one of
-    // its visits (two neighbours answering skipped commands, one result
-    // every second visit each). The first channel refused takes the
+    // or more (until the result FIFO takes it), so the channel visited
+    // before a channel can keep it busy at every one of its visits (a
+    // neighbour answering skipped commands, one result every visit). The first channel refused takes the
     // claim; while it is held no other channel hands over, so it gets the
     // register at its next visit once the FIFO has room, and gives the
     // claim back then. Every waiting result is handed over within about
@@ -456,9 +466,7 @@ module twh_engine #(
     wire         cmd_go  = s2_ne && (enable || h_skip != 4'd0);
     wire         poll_go = enable && s2_pr;
     wire         use_poll = poll_go && (s2_c[C_PF] || !cmd_go);
-    wire [15:0]  p_cmd   = s2_pc;
-    wire [7:0]   p_chk;
-    twh_checksum u_pchk (.a(p_cmd[7:0]), .b(8'd0), .c(p_cmd[15:8]), .chk(p_chk));
+    wire [15:0]  p_cmd   = poll_cmd;        // (twh_polls' RAM register: read at S1)
     wire         idle_go = s2_idle_go;      // (ph == IDLE) && last && !rwait, at S1
     wire         start_q = idle_go && !use_poll && cmd_go;    // the head entry starts
     wire         start_p = idle_go && use_poll;               // the poll starts
@@ -479,7 +487,7 @@ module twh_engine #(
                     wn[2:0]  = `TWH_PH_CHARGE;
                     wn[18:3] = s2_len;
                     wn[21:20] = 2'b00;
-                    wn[SH +: 24] = {p_chk, p_cmd[15:8], p_cmd[7:0]};
+                    wn[SH +: 16] = p_cmd;
                     wn[PL] = 1'b1;
                 end else if (start_q) begin
                     if (h_skip != 4'd0) begin
@@ -592,10 +600,6 @@ module twh_engine #(
     reg          s3_last;
     reg [31:0]   s3_q;
     reg          s3_ich;
-    reg [7:0]    s3_code;
-    reg [15:0]   s3_data;
-    reg [3:0]    s3_status;
-    reg [TAG_W-1:0] s3_tag;
     always @(posedge clk) begin
         s3_v      <= !rst && s2_v;
         s3_ch     <= s2_ch;
@@ -604,15 +608,8 @@ module twh_engine #(
         s3_ins    <= ins;
         s3_tl     <= c2_tl;
         s3_last   <= last;
-        // a poll's frame is in its word (SH: code, payload, checksum)
-        s3_q      <= w[PL] ? {w[SH +: 8], 8'd0, w[SH+8 +: 8], w[SH+16 +: 8]}
-                           : {q_code, q_pmsb, q_plsb, q_chk};
+        s3_q      <= {f_code, f_pmsb, f_plsb, f_chk};
         s3_ich    <= cfg_idle_charge[s2_ch];
-        s3_res    <= !rst && s2_v && hand;
-        s3_code   <= q_code;
-        s3_data   <= w[U0 +: 16];
-        s3_status <= w[RS +: 4];
-        s3_tag    <= q_tag;
         p_take    <= !rst && s2_v && start_p;
         p_res     <= !rst && s2_v && poll_end;
         p_ch      <= s2_ch;
@@ -653,13 +650,15 @@ module twh_engine #(
             m_res_valid <= 1'b0;
         end else begin
             if (m_res_valid && m_res_ready) m_res_valid <= 1'b0;
-            if (s3_v && s3_res) begin
+            // the hand-over, at S2: the waiting result from the word, its
+            // code and tag from the queue's head (no copy of them at S3)
+            if (s2_v && hand) begin
                 m_res_valid  <= 1'b1;
-                m_res_ch     <= s3_ch;
-                m_res_code   <= s3_code;
-                m_res_data   <= s3_data;
-                m_res_status <= s3_status;
-                m_res_tag    <= s3_tag;
+                m_res_ch     <= s2_ch;
+                m_res_code   <= q_code;
+                m_res_data   <= w[U0 +: 16];
+                m_res_status <= w[RS +: 4];
+                m_res_tag    <= q_tag;
             end
         end
     end
@@ -739,6 +738,9 @@ module twh_engine #(
     twh_carrier #(.CLK_HZ(CLK_HZ)) f_timebase (.clk(clk), .rst(rst), .tick(f_tick),
                                                .tick_nx(f_tick_nx), .fall(f_fall));
     always @(*) assume(tick == f_tick && fall == f_fall);
+    // a hand-over at the last clock's S2: the result register took it
+    reg s3_res;
+    always @(posedge clk) s3_res <= !rst && s2_v && hand;
 
     (* anyconst *) reg [CW-1:0] f_ch;
     (* anyconst *) reg [QW-1:0] f_qi_c;
@@ -978,7 +980,7 @@ module twh_engine #(
             assert(m_res_valid && $stable({m_res_ch, m_res_code, m_res_data, m_res_status, m_res_tag}));
         // ... and is loaded only by a hand-over: once taken it is empty
         // until the next (no result goes out twice)
-        if (f_past && f_ok && !rst && !$past(s3_v && s3_res) &&
+        if (f_past && f_ok && !rst && !(s3_v && s3_res) &&
             (!$past(m_res_valid) || $past(m_res_ready)))
             assert(!m_res_valid);
         // a flush marks a command still waiting for its visit CANCELLED
@@ -1024,8 +1026,14 @@ module twh_engine #(
             // the waiting command goes into the tracked entry unchanged
             if ($past(s3_v && s3_ins && s3_ch == f_ch && s3_tl == f_qi))
                 assert(f_qm == $past(b_e));
-            // the result of the tracked entry: its code and tag
-            if ($past(s3_v && s3_res && s3_ch == f_ch && f_s3_hd == f_qi)) begin
+        end
+    end
+    always @(*) begin
+        if (f_ok && !rst) begin
+            // the result of the tracked entry: its code and tag (the
+            // register is loaded at S2; the head is not written before S3's
+            // clock ends)
+            if (s3_v && s3_res && s3_ch == f_ch && f_s3_hd == f_qi) begin
                 assert(m_res_valid && m_res_ch == f_ch &&
                        m_res_code == f_qm_code && m_res_tag == f_qm_tag);
                 if (f_qm_sk == SK_CANCELLED) assert(m_res_status == `TWH_ST_CANCELLED);
@@ -1156,11 +1164,9 @@ module twh_engine #(
         if (t_we && t_ch == f_ch && t_fld == f_tf) f_tl <= t_len;
     end
     // the word as the tracked visit's read found it, carried to S2
-    reg [15:0] f_t1, f_t2;
-    always @(posedge clk) begin
-        f_t1 <= f_tm;
-        f_t2 <= f_t1;
-    end
+    // (the RAM is read at S1)
+    reg [15:0] f_t2;
+    always @(posedge clk) f_t2 <= f_tm;
     always @(*) begin
         if (f_ok && !rst) begin
             if (f_tv) assert(f_tm == f_tl);
@@ -1174,12 +1180,11 @@ module twh_engine #(
     // request and command the core gives in the visit's S1 clock, and the
     // enable in its S2 clock, against what the write holds.
     reg        f_pr2, f_pr3, f_en3, f_env3;
-    reg [15:0] f_pc2, f_pc3;
+    reg [15:0] f_pc3;
     always @(posedge clk) begin
         f_pr2  <= poll_req[f_ch];
         f_pr3  <= f_pr2;
-        f_pc2  <= poll_cmd;
-        f_pc3  <= f_pc2;
+        f_pc3  <= poll_cmd;
         f_en3  <= enable;
         f_env3 <= s2_env;
     end
@@ -1209,7 +1214,7 @@ module twh_engine #(
                 // command next after a poll
                 if (f_s_cmd) assert(s3_ctl[C_PF]);
                 if (f_s_pol) assert(!s3_ctl[C_PF]);
-                if (f_s_pol) assert(s3_word[SH +: 24] == {f_pck, f_pc3[15:8], f_pc3[7:0]});
+                if (f_s_pol) assert(s3_word[SH +: 16] == f_pc3);
             end
             if (!f_s_cmd && !f_s_pol) assert(s3_ctl[C_PF] == f_pref);
         end
@@ -1223,7 +1228,7 @@ module twh_engine #(
     wire f_pbit = (f_bn == 4'd0) ? 1'b0 : (f_bn <= 4'd8) ? f_pby[f_bn - 4'd1] : 1'b1;
     always @(*) begin
         if (f_ok && !rst && f_cur[PL] && f_ph != `TWH_PH_EXECUTE && f_ph != `TWH_PH_LISTEN) begin
-            assert(f_cur[SH +: 24] == f_pfr);
+            assert(f_cur[SH +: 16] == f_pfr[15:0]);
             assert(!f_pfr[7] && f_pfr[23:16] == ~(f_pfr[7:0] + f_pfr[15:8]));
             if (f_ph == `TWH_PH_COMMAND) begin
                 assert(f_cur[18:3] != 16'd0 && f_cur[18:3] <= 16'd1056);

@@ -55,7 +55,7 @@ module twh_polls #(
     input  wire [CW-1:0]       rd_ch,
     output wire [31:0]         rd_data,      // a clock later; 0 after no read
     // the engine
-    input  wire [CW-1:0]       scan_ch,      // its read address (S0)
+    input  wire [CW-1:0]       scan_ch,      // its read address (the engine's S1)
     output wire [15:0]         poll_cmd,     // that channel's {payload, code}, a clock later
     output wire [CHANNELS-1:0] poll_req,     // its poll is due
     input  wire                p_take,       // a poll started (p_ch)
@@ -254,8 +254,8 @@ module twh_polls #(
 `ifdef FORMAL
     // ================================================================ formal
     // formal/twh_polls.sby. The property that matters: whenever the engine
-    // takes a channel's request together with the command it read for that
-    // channel a clock before, the command is read-only (0x40-0x44,
+    // takes a channel's request in the clock it names that channel for the
+    // command memory's read (scan_ch), the command read is read-only (0x40-0x44,
     // 0x46-0x49), whatever the bus writes and whenever. The core's verdict
     // on a POLL_CTRL write with EN = 1 (proven on the core, twh_core:port)
     // is assumed, and the core names only existing channels.
@@ -296,9 +296,11 @@ module twh_polls #(
         end
     end
     reg [CW-1:0] f_sc;            // the channel the engine's read named a clock ago
+    reg          f_sd;            // ... and that channel's request then
     reg          f_past = 1'b0;
     always @(posedge clk) begin
         f_sc   <= scan_ch;
+        f_sd   <= due[scan_ch];
         f_past <= f_ok && !rst;
     end
     always @(*) begin
@@ -326,7 +328,7 @@ module twh_polls #(
             if (set_due && set_ch == f_n) assert(f_ro(g_mem.cm_mem[f_n][7:0]) && !due[f_n]);
         end
         // the engine's contract: a request with the command read for it
-        if (f_past && f_sc == f_n && due[f_n]) assert(f_ro(poll_cmd[7:0]));
+        if (f_past && f_sc == f_n && f_sd) assert(f_ro(poll_cmd[7:0]));
         if (POLLING == 0) assert(due == {CHANNELS{1'b0}});
     end
     always @(posedge clk) begin
