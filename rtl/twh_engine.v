@@ -126,13 +126,14 @@ module twh_engine #(
     output wire [CHANNELS*3-1:0] phase,        // each channel's phase as its last visit left it
     output wire [CHANNELS*3-1:0] fld,          // the timing field its next phase loads
     // polls: a poll taken (its channel's due flag is spent), a poll's result;
-    // one-clock strobes with their channel, never held back
-    output reg                 p_take,
-    output reg                 p_res,
-    output reg  [CW-1:0]       p_ch,
-    output reg  [15:0]         p_data,
-    output reg  [3:0]          p_status,
-    output reg  [11:0]         p_count         // the channel's polls completed, this one included
+    // one-clock strobes with their channel, never held back, straight from
+    // the step's S2 (twh_polls registers what it keeps)
+    output wire                p_take,
+    output wire                p_res,
+    output wire [CW-1:0]       p_ch,
+    output wire [15:0]         p_data,
+    output wire [3:0]          p_status,
+    output wire [11:0]         p_count         // the channel's polls completed, this one included
 );
     localparam integer P    = CLK_HZ / 1_000_000;
     localparam integer FRAC = CLK_HZ % 1_000_000;
@@ -610,13 +611,13 @@ module twh_engine #(
         s3_last   <= last;
         s3_q      <= {f_code, f_pmsb, f_plsb, f_chk};
         s3_ich    <= cfg_idle_charge[s2_ch];
-        p_take    <= !rst && s2_v && start_p;
-        p_res     <= !rst && s2_v && poll_end;
-        p_ch      <= s2_ch;
-        p_data    <= r_data_ok ? {r_sh[7:0], r_sh[15:8]} : 16'd0;
-        p_status  <= r_status;
-        p_count   <= w[CT +: 12] + 12'd1;
     end
+    assign p_take   = !rst && s2_v && start_p;
+    assign p_res    = !rst && s2_v && poll_end;
+    assign p_ch     = s2_ch;
+    assign p_data   = r_data_ok ? {r_sh[7:0], r_sh[15:8]} : 16'd0;
+    assign p_status = r_status;
+    assign p_count  = w[CT +: 12] + 12'd1;
 
     // S3: the drive for the next period, from the new word (NOTES.md):
     // the idle carrier only once the idle's count is out; the command
@@ -741,6 +742,14 @@ module twh_engine #(
     // a hand-over at the last clock's S2: the result register took it
     reg s3_res;
     always @(posedge clk) s3_res <= !rst && s2_v && hand;
+    // the pollers' strobes of the last clock's S2, for the S3-clock checks
+    reg          f_ptk, f_prs;
+    reg [CW-1:0] f_pch;
+    reg [15:0]   f_pdt;
+    reg [3:0]    f_pst;
+    reg [11:0]   f_pct;
+    always @(posedge clk) {f_ptk, f_prs, f_pch, f_pdt, f_pst, f_pct} <=
+                          {p_take, p_res, p_ch, p_data, p_status, p_count};
 
     (* anyconst *) reg [CW-1:0] f_ch;
     (* anyconst *) reg [QW-1:0] f_qi_c;
@@ -1254,21 +1263,21 @@ module twh_engine #(
             else
                 assert(s3_word[21:20] == f_pre[21:20]);
             if (f_oph == `TWH_PH_LISTEN && f_pre_last) begin
-                if (!f_pre[20]) assert(p_status == `TWH_ST_LINE_STUCK_HIGH);
-                else if (!f_pre[21]) assert(p_status == `TWH_ST_LINE_STUCK_LOW);
-                else assert(p_status != `TWH_ST_LINE_STUCK_HIGH &&
-                            p_status != `TWH_ST_LINE_STUCK_LOW);
-                if (!f_pre[PL]) assert(f_rs_n == p_status && s3_word[19]);
+                if (!f_pre[20]) assert(f_pst == `TWH_ST_LINE_STUCK_HIGH);
+                else if (!f_pre[21]) assert(f_pst == `TWH_ST_LINE_STUCK_LOW);
+                else assert(f_pst != `TWH_ST_LINE_STUCK_HIGH &&
+                            f_pst != `TWH_ST_LINE_STUCK_LOW);
+                if (!f_pre[PL]) assert(f_rs_n == f_pst && s3_word[19]);
             end
             // a poll's start and end, and only a poll's, go to the pollers
             // (POLL_RESULT): its status as above, data only with OK or
             // BAD_CHECKSUM, the channel's count of polls one more
-            assert(p_take == f_s_pol && p_ch == f_ch);
-            assert(p_res == (f_oph == `TWH_PH_LISTEN && f_pre_last && f_pre[PL]));
-            if (p_res) begin
-                if (p_data != 16'd0) assert(p_status == `TWH_ST_OK ||
-                                            p_status == `TWH_ST_BAD_CHECKSUM);
-                assert(p_count == f_pre[CT +: 12] + 12'd1 && s3_word[CT +: 12] == p_count);
+            assert(f_ptk == f_s_pol && f_pch == f_ch);
+            assert(f_prs == (f_oph == `TWH_PH_LISTEN && f_pre_last && f_pre[PL]));
+            if (f_prs) begin
+                if (f_pdt != 16'd0) assert(f_pst == `TWH_ST_OK ||
+                                            f_pst == `TWH_ST_BAD_CHECKSUM);
+                assert(f_pct == f_pre[CT +: 12] + 12'd1 && s3_word[CT +: 12] == f_pct);
             end else begin
                 assert(s3_word[CT +: 12] == f_pre[CT +: 12]);
             end
