@@ -16,14 +16,13 @@
 //   - `cancel` makes every entry not started CANCELLED (a head starting in
 //     that very clock counts as started), but not a command pushed in that
 //     clock (the core pushes that one CANCELLED itself);
-//   - one result register for every channel: a started head's result goes
-//     in only while it is empty, and the head leaves its queue then; the register
-//     holds it, unchanged, until res_ready.
+//   - a started head's result goes out (res_valid, one channel at a time)
+//     only in a clock with res_ready, and the head leaves its queue then.
 // Polls, the timing fetch, the registers' read-back and the pins are left
 // free: the core's command-path proof reads none of them (STATUS.BUSY
 // takes a free "poll running" term too).
 //
-// Its queues, start flags and result register are probed by the core's
+// Its queues and start flags are probed by the core's
 // proof (formal/twh_core.sby, connect -set), as the command FIFO's words
 // are: f_q (entry i of channel c, counted from the head, at
 // (c*4 + i)*17: {skip, tag, code}), f_n (3 bits a channel), f_st (the head
@@ -91,7 +90,6 @@ module twh_core_engine #(
     wire [CHANNELS*4*E-1:0] f_q;
     wire [CHANNELS*3-1:0]   f_n;
     wire [CHANNELS-1:0]     f_st;
-    reg                     rv = 1'b0;
     reg  [4:0]              r_ch, r_tag;
     reg  [3:0]              r_status;
     reg  [7:0]              r_code;
@@ -100,24 +98,21 @@ module twh_core_engine #(
     wire [3:0] link_status = (f_status > `TWH_ST_LINE_STUCK_HIGH) ? `TWH_ST_NO_RESPONSE : f_status;
 
     wire [CHANNELS-1:0] f_pop, f_strt;
-    always @(posedge clk) begin
-        if (rst)                  rv <= 1'b0;
-        else if (rv && res_ready) rv <= 1'b0;
-        else if (|f_pop)          rv <= 1'b1;
-    end
     // (one channel pops at a time: f_dch names it)
     integer c;
-    always @(posedge clk)
+    always @(*) begin
+        r_ch = 5'd0; r_tag = 5'd0; r_code = 8'd0; r_status = 4'd0; r_data = 16'd0;
         for (c = 0; c < CHANNELS; c = c + 1)
             if (f_pop[c]) begin
-                r_ch     <= c[4:0];
-                r_tag    <= f_q[(c*4)*E + 8 +: 5];
-                r_code   <= f_q[(c*4)*E +: 8];
-                r_status <= (f_q[(c*4)*E + 13 +: 4] != 4'd0) ? f_q[(c*4)*E + 13 +: 4] : link_status;
-                r_data   <= (f_q[(c*4)*E + 13 +: 4] == 4'd0 &&
-                             (link_status == `TWH_ST_OK || link_status == `TWH_ST_BAD_CHECKSUM))
-                            ? f_data : 16'd0;
+                r_ch     = c[4:0];
+                r_tag    = f_q[(c*4)*E + 8 +: 5];
+                r_code   = f_q[(c*4)*E +: 8];
+                r_status = (f_q[(c*4)*E + 13 +: 4] != 4'd0) ? f_q[(c*4)*E + 13 +: 4] : link_status;
+                r_data   = (f_q[(c*4)*E + 13 +: 4] == 4'd0 &&
+                            (link_status == `TWH_ST_OK || link_status == `TWH_ST_BAD_CHECKSUM))
+                           ? f_data : 16'd0;
             end
+    end
 
     genvar n;
     integer i;
@@ -131,7 +126,7 @@ module twh_core_engine #(
             // started head hands its result over into an empty register
             assign f_strt[n] = f_start[n] && !st && cnt != 3'd0 &&
                                (enable || hd[16:13] != 4'd0);
-            assign f_pop[n]  = !rv && f_done && f_dch == n && st;
+            assign f_pop[n]  = res_ready && !rst && f_done && f_dch == n && st;
             wire [2:0]     kept = cnt - {2'd0, f_pop[n]};
             always @(posedge clk) begin
                 if (rst) begin
@@ -160,11 +155,11 @@ module twh_core_engine #(
             assign f_n[n*3 +: 3]     = cnt;
             assign f_st[n]           = st;
             assign full[n]        = (cnt == 3'd4);
-            assign status_busy[n] = (cnt != 3'd0) || (rv && r_ch == n) || f_poll[n];
+            assign status_busy[n] = (cnt != 3'd0) || f_poll[n];
         end
     endgenerate
 
-    assign res_valid   = rv;
+    assign res_valid   = |f_pop;
     assign res         = {r_tag, r_ch, r_status, r_code, r_data};
     assign cancelling  = f_canc;
     // a POLL_CTRL / POLL_RESULT / STATE read is answered in the clock after
@@ -185,7 +180,7 @@ module twh_core_engine #(
             assert(f_n[c*3 +: 3] <= 3'd4);
             if (f_st[c]) assert(f_n[c*3 +: 3] != 3'd0);
         end
-        if (rv) assert({1'b0, r_ch} < CHANNELS);
+        if (res_valid) assert({1'b0, r_ch} < CHANNELS);
     end
 
     // verilator lint_off UNUSEDSIGNAL

@@ -28,9 +28,9 @@
 // channel can take it: its queue of four is not full. A head waiting for a
 // channel that cannot take it holds back the commands behind it; with the
 // queues that happens only beyond four commands for one channel.
-// Results: the engine's result register, whose claim gives every channel
-// its turn (docs/engine.md); a full FIFO holds the channels back and no
-// result is ever dropped.
+// Results: the engine hands each over straight into the result FIFO while
+// it has room, and its claim gives every channel its turn (docs/engine.md);
+// a full FIFO holds the channels back and no result is ever dropped.
 `default_nettype none
 `include "twh_defs.vh"
 module twh_core #(
@@ -401,7 +401,8 @@ module twh_core #(
     wire res_vacant;          // no result queued (STATUS.RES_EMPTY)
     wire [LW-1:0] res_level;
     wire [37:0] res_head;
-    // what goes into the result FIFO: the engine's result register
+    // what goes into the result FIFO: the engine's hand-over (only while
+    // the FIFO is not full)
     wire        e_res_valid;
     wire [37:0] e_res;
     wire        e_cancelling;     // a flush's cancels are left in the queues
@@ -660,7 +661,7 @@ module twh_core #(
     // the request. The command path is proven by formal/twh_core.sby with
     // TWH_F_CORE: the engine is a stand-in that keeps its proven contract
     // (formal/twh_core_engine_stub.v, the time-shared engine's queues and
-    // result register), and the f_cf_* and f_e_* probes below are tied by
+    // hand-over), and the f_cf_* and f_e_* probes below are tied by
     // that job (connect -set) to the command FIFO's pointers, output flag
     // and RAM words, which twh_fifo exposes nowhere else, and to the
     // stand-in's queues.
@@ -957,7 +958,7 @@ module twh_core #(
     (* keep *) wire [CHANNELS-1:0]    f_e_st, f_e_strt, f_e_pop;
     reg [4:0] f_e_sum;
     always @(*) begin
-        f_e_sum = {4'd0, e_res_valid};
+        f_e_sum = 5'd0;
         for (f_j = 0; f_j < CHANNELS; f_j = f_j + 1)
             f_e_sum = f_e_sum + {2'd0, f_e_n[f_j*3 +: 3]};
     end
@@ -966,9 +967,10 @@ module twh_core #(
     // ------------------------------------------------ one command, followed
     // An arbitrary accepted push is followed to its result: f_st 1 while in
     // the command FIFO (f_pos words ahead of it); 2 in its channel's queue
-    // in the engine (f_qp entries behind the head), 3 in the engine's result
-    // register. f_can: it must come out CANCELLED (a flush was written while
-    // it was queued, or in the engine's queue and not yet started).
+    // in the engine (f_qp entries behind the head), until its result goes
+    // into the result FIFO (from the head, in one clock). f_can: it must
+    // come out CANCELLED (a flush was written while it was queued, or in
+    // the engine's queue and not yet started).
     (* anyseq *) reg f_pick;
     reg [1:0]    f_st;
     reg [LW-1:0] f_pos;
@@ -981,8 +983,6 @@ module twh_core #(
     // (the engine takes a flush in its own clock: f_can)
     wire [3:0]   f_skip  = f_can ? `TWH_ST_CANCELLED :
                            f_blk ? `TWH_ST_BLOCKED : 4'd0;
-    // its result goes in
-    wire         f_mine  = res_push && f_st == 2'd3;
     // its queue's count and head, its entry, whether its head
     // starts or hands over now
     wire [2:0]   f_e_cnt  = f_e_n[f_ch*3 +: 3];
@@ -990,6 +990,8 @@ module twh_core #(
     wire         f_e_hst  = f_e_st[f_ch];
     wire         f_e_go   = f_e_strt[f_ch];
     wire         f_e_out  = f_e_pop[f_ch];
+    // its result goes in
+    wire         f_mine  = res_push && f_st == 2'd2 && f_qp == 3'd0 && f_e_out;
 
     always @(posedge clk) begin
         if (rst) begin
@@ -1017,11 +1019,11 @@ module twh_core #(
                           // has started (or starts now)
                           if (f_flush && !(f_qp == 3'd0 && (f_e_hst || f_e_go))) f_can <= 1'b1;
                           if (f_e_out) begin
-                              if (f_qp == 3'd0) f_st <= 2'd3;
+                              if (f_qp == 3'd0) f_st <= 2'd0;
                               else              f_qp <= f_qp - 3'd1;
                           end
                       end
-                default: if (f_mine) f_st <= 2'd0;
+                default: f_st <= 2'd0;
             endcase
         end
     end
@@ -1067,14 +1069,14 @@ module twh_core #(
             if (dispatch)
                 assert(f_cf_ov && disp_ch == cmd_head[28:24] && disp_blk == cmd_head[34] &&
                        {1'b0, disp_ch} < CH_COUNT && !slot_full8[disp_ch]);
-            // the result register's channel exists
+            // a result's channel exists
             if (e_res_valid) assert({1'b0, e_res[32:28]} < CH_COUNT);
             // a flush counts down only the commands queued before it
             assert(flush_left <= cmd_level);
             assert(flushing == (flush_left != {LW{1'b0}}));
 
             // ---- none lost, none doubled: every accepted push is queued,
-            // in the engine (a queue or its result register), or was put
+            // in the engine (its channel's queue), or was put
             // as one result into the result FIFO
             assert(f_pend == {1'b0, cmd_level} + {1'b0, f_inch});
 
@@ -1097,9 +1099,10 @@ module twh_core #(
             // longer changes)
             if (f_st == 2'd2)
                 assert(f_qp < f_e_cnt && f_e_ent == {f_skip, f_word[33:29], f_word[7:0]});
-            // its one result, in the result register until the result
-            // FIFO takes it: its tag, channel and code, and its status
-            if (f_st == 2'd3) begin
+            // its one result, into the result FIFO as its head leaves the
+            // queue: its tag, channel and code, and its status
+            assert(f_st != 2'd3);
+            if (f_st == 2'd2 && f_qp == 3'd0 && f_e_out) begin
                 assert(e_res_valid && e_res[32:28] == f_ch && e_res[37:33] == f_word[33:29] &&
                        e_res[23:16] == f_word[7:0]);
                 if (f_skip != 4'd0) assert(e_res[27:24] == f_skip);

@@ -18,8 +18,8 @@
 //   charge to turnaround), SLOT_FULL a queued command not started; read
 //   with POLL_CTRL and POLL_RESULT on rd_data, a clock after the request.
 // - BUSY (the register): a command queued or running, a transaction on the
-//   line (the engine's `busy`, a poll's too), or a result in the engine's
-//   result register.
+//   line (the engine's `busy`, a poll's too), or a result waiting in its
+//   channel for room in the result FIFO.
 `default_nettype none
 `include "twh_defs.vh"
 module twh_core_engine #(
@@ -67,7 +67,8 @@ module twh_core_engine #(
     input  wire                   cancel,
     output wire [CHANNELS-1:0]    full,
     output wire                   cancelling,   // queued commands a flush cancels are left
-    // results for the result FIFO: {tag, channel, status, code, data}
+    // results for the result FIFO: {tag, channel, status, code, data};
+    // res_valid only in a clock with res_ready (the FIFO takes it then)
     output wire                   res_valid,
     input  wire                   res_ready,
     output wire [37:0]            res,
@@ -156,8 +157,11 @@ module twh_core_engine #(
         end
         for (n = 0; n < CHANNELS; n = n + 1) begin : g_ch
             assign st_w[n*4 +: 4] = {e_pending[n], e_phase[n*3 +: 3]};
-            // (the engine's busy counts a transaction on the line, a poll's too)
-            assign status_busy[n] = e_busy[n] || (res_valid && r_ch == n);
+            // (the engine's busy counts a transaction on the line, a poll's
+            // too, and a result still waiting in the channel: it clears
+            // at the visit's write, a clock after the result went into the
+            // result FIFO)
+            assign status_busy[n] = e_busy[n];
         end
     endgenerate
 endmodule

@@ -47,11 +47,12 @@
 // listen's end, never held back. Nothing starts while `enable` is 0 but
 // skipped and cancelled commands, which are still answered.
 //
-// Results. One result register (m_res_*) serves every channel; a channel
-// whose result is ready hands it over at a visit that finds the register
-// free and no other channel holding the register's claim (the first
-// channel refused takes it), and keeps it (holding its next charge back)
-// until then.
+// Results. A channel whose result is ready hands it over (m_res_*, from its
+// word and its queue's head at the visit's S2) at a visit in whose clock
+// m_res_ready says there is room (the result FIFO not full) and no other
+// channel holds the claim (the first channel refused takes it), and keeps
+// it (holding its next charge back) until then. So m_res_valid is raised
+// only in a clock with m_res_ready: the result is taken in that clock.
 //
 // Phase lengths (microseconds, already clamped) come from a timing RAM of
 // eight words a channel, read at every visit for the field the channel's
@@ -106,13 +107,15 @@ module twh_engine #(
     input  wire [3:0]          s_cmd_skip,     // 0, or the status to answer the command
                                                // with unstarted: BLOCKED or CANCELLED
     // results
-    output reg                 m_res_valid,
+    // (valid only with ready, in the visit's S2 clock; ready must not
+    // depend on valid)
+    output wire                m_res_valid,
     input  wire                m_res_ready,
-    output reg  [CW-1:0]       m_res_ch,
-    output reg  [7:0]          m_res_code,
-    output reg  [15:0]         m_res_data,
-    output reg  [3:0]          m_res_status,
-    output reg  [TAG_W-1:0]    m_res_tag,
+    output wire [CW-1:0]       m_res_ch,
+    output wire [7:0]          m_res_code,
+    output wire [15:0]         m_res_data,
+    output wire [3:0]          m_res_status,
+    output wire [TAG_W-1:0]    m_res_tag,
     // the pins
     output wire [CHANNELS-1:0] line_o,
     output wire [CHANNELS-1:0] line_oe,
@@ -444,17 +447,15 @@ module twh_engine #(
     wire [UW-1:0] rx_n;
     twh_rx_step u_rstep (.rx(w[U0 +: UW]), .dec(s2_rdec), .env(env), .rx_n(rx_n));
 
-    // the result register is free for this visit (it is loaded at S2, from
-    // the word and the queue's head, so no load is in flight)
-    wire res_free = !m_res_valid;
-    // The register's claim: a result handed over stays in it for a clock
-    // or more (until the result FIFO takes it), so the channel visited
-    // before a channel can keep it busy at every one of its visits (a
-    // neighbour answering skipped commands, one result every visit). The first channel refused takes the
-    // claim; while it is held no other channel hands over, so it gets the
-    // register at its next visit once the FIFO has room, and gives the
-    // claim back then. Every waiting result is handed over within about
-    // a period a channel while results flow.
+    // The hand-over needs room where the result goes (m_res_ready: the
+    // result FIFO is not full). The claim: a full FIFO that takes one
+    // result at a time lets the channel visited first after each pop have
+    // it, so the same neighbours could take every free place ahead of a
+    // channel. The first channel refused takes the claim; while it is held
+    // no other channel hands over, so it gets the next free place at its
+    // next visit, and gives the claim back then. Every waiting result is
+    // handed over within about a period a channel while results flow.
+    wire res_free = m_res_ready;
     reg          rc_v;
     reg [CW-1:0] rc_ch;
     wire         res_mine = !rc_v || (rc_ch == s2_ch);
@@ -646,23 +647,14 @@ module twh_engine #(
                  (n_ph == `TWH_PH_COMMAND && t_level);
     end
 
-    always @(posedge clk) begin
-        if (rst) begin
-            m_res_valid <= 1'b0;
-        end else begin
-            if (m_res_valid && m_res_ready) m_res_valid <= 1'b0;
-            // the hand-over, at S2: the waiting result from the word, its
-            // code and tag from the queue's head (no copy of them at S3)
-            if (s2_v && hand) begin
-                m_res_valid  <= 1'b1;
-                m_res_ch     <= s2_ch;
-                m_res_code   <= q_code;
-                m_res_data   <= w[U0 +: 16];
-                m_res_status <= w[RS +: 4];
-                m_res_tag    <= q_tag;
-            end
-        end
-    end
+    // the hand-over: the waiting result from the word, its code and tag
+    // from the queue's head
+    assign m_res_valid  = !rst && s2_v && hand;
+    assign m_res_ch     = s2_ch;
+    assign m_res_code   = q_code;
+    assign m_res_data   = w[U0 +: 16];
+    assign m_res_status = w[RS +: 4];
+    assign m_res_tag    = q_tag;
 
     // a flush's cancels are left: a channel's flag or count, or one on its
     // way from S1 to the write
@@ -981,17 +973,13 @@ module twh_engine #(
         end
     end
 
-    // the result register holds its result until it is taken
+    // a result goes out only where there is room for it, in the clock of
+    // its channel's hand-over (the one clock its waiting flag is cleared:
+    // the step's property above), so it goes out once
+    always @(*) if (f_ok && !rst && m_res_valid) assert(m_res_ready && s2_v && w[19]);
     reg f_past = 1'b0;
     always @(posedge clk) f_past <= f_ok && !rst;
     always @(posedge clk) begin
-        if (f_past && f_ok && !rst && $past(m_res_valid && !m_res_ready))
-            assert(m_res_valid && $stable({m_res_ch, m_res_code, m_res_data, m_res_status, m_res_tag}));
-        // ... and is loaded only by a hand-over: once taken it is empty
-        // until the next (no result goes out twice)
-        if (f_past && f_ok && !rst && !(s3_v && s3_res) &&
-            (!$past(m_res_valid) || $past(m_res_ready)))
-            assert(!m_res_valid);
         // a flush marks a command still waiting for its visit CANCELLED
         if (f_past && f_ok && !rst && $past(cancel && b_v && !rst) && b_v)
             assert(b_e[1:0] == SK_CANCELLED);
@@ -1020,8 +1008,6 @@ module twh_engine #(
     wire [3:0]        f_rs_n    = s3_word[RS +: 4];
     wire [3:0]        f_rs      = f_cur[RS +: 4];
     wire              f_run     = !f_cur[PL] && f_ph != `TWH_PH_IDLE && f_ph != `TWH_PH_TURNAROUND;
-    reg  [QW-1:0]     f_s3_hd;
-    always @(posedge clk) f_s3_hd <= c2_hd;
     always @(posedge clk) begin
         if (f_past && f_ok && !rst) begin
             if ($past(push))
@@ -1039,10 +1025,9 @@ module twh_engine #(
     end
     always @(*) begin
         if (f_ok && !rst) begin
-            // the result of the tracked entry: its code and tag (the
-            // register is loaded at S2; the head is not written before S3's
-            // clock ends)
-            if (s3_v && s3_res && s3_ch == f_ch && f_s3_hd == f_qi) begin
+            // the result of the tracked entry: its code and tag (handed
+            // over at S2, where the head read is the RAM's word: below)
+            if (m_res_valid && s2_ch == f_ch && c2_hd == f_qi) begin
                 assert(m_res_valid && m_res_ch == f_ch &&
                        m_res_code == f_qm_code && m_res_tag == f_qm_tag);
                 if (f_qm_sk == SK_CANCELLED) assert(m_res_status == `TWH_ST_CANCELLED);

@@ -362,12 +362,11 @@ class CoreTB:
         self.prog_timing = _param(dut, "PROG_TIMING", "TWH_PROG_TIMING", 1)
         self.polling = _param(dut, "POLLING", "TWH_POLLING", 1)
         # the time-shared engine queues four commands a channel behind the
-        # command FIFO and has one result register in front of the result
-        # FIFO
+        # command FIFO and hands each result straight into the result FIFO
         self.queue_depth = 4
-        # results held back while the result FIFO is full: one a channel,
-        # and the engine's result register
-        self.held_results = self.channels + 1
+        # results held back while the result FIFO is full: one a channel
+        # (it waits in its channel)
+        self.held_results = self.channels
         self.rm = regmap.load(channels=self.channels, fifo_depth=self.fifo_depth,
                               clk_hz=self.clk_hz)
         self.cells = tuple(cells)
