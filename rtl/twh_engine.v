@@ -12,7 +12,7 @@
 // (S1) and are registered (S2; the length and a poll's command are read at
 // S1 into their RAMs' own registers), the next word and the queue's moves
 // are computed from them and registered (S3; a result handed over goes
-// into the result register there and then), and written three
+// straight to m_res_* there and then), and written three
 // clocks after the read, while the drive for the next period is computed
 // from the new word (S4: the pin takes it a clock later). A channel is read
 // again a carrier period (P clocks, P >= 4) after its last read, so it
@@ -731,7 +731,7 @@ module twh_engine #(
     twh_carrier #(.CLK_HZ(CLK_HZ)) f_timebase (.clk(clk), .rst(rst), .tick(f_tick),
                                                .tick_nx(f_tick_nx), .fall(f_fall));
     always @(*) assume(tick == f_tick && fall == f_fall);
-    // a hand-over at the last clock's S2: the result register took it
+    // a hand-over at the last clock's S2 (its result went out then)
     reg s3_res;
     always @(posedge clk) s3_res <= !rst && s2_v && hand;
     // the pollers' strobes of the last clock's S2, for the S3-clock checks
@@ -991,7 +991,7 @@ module twh_engine #(
     //   byte 0 in a 3-byte command), tag and skip as the port gave them
     //   (a flush may turn the skip to CANCELLED while it waits);
     // - the entry read at the head is the RAM's word, and a result handed
-    //   over for it carries its code and tag, in the register a clock on;
+    //   over for it carries its code and tag;
     // - its status: CANCELLED for an entry taken CANCELLED; BLOCKED or
     //   CANCELLED (a flush) for one taken BLOCKED; for one taken to run, a
     //   status of the line (OK .. LINE_STUCK_HIGH) or CANCELLED (a flush
@@ -1064,11 +1064,10 @@ module twh_engine #(
             if (f_run && f_at_qi) assert(f_qm_sk == SK_NONE);
         end
     end
-    // The register's claim: while a channel holds it no other channel
-    // hands a result over, the holder has a result waiting, and at its
-    // next visit no hand-over is in flight ahead of it, so it gets the
-    // register unless the result FIFO has refused the one in it for a
-    // whole period (every wait for the register is bounded by the FIFO).
+    // The hand-over's claim: while a channel holds it no other channel
+    // hands a result over and the holder has a result waiting, so it hands
+    // it over at the first of its visits that finds room in the result
+    // FIFO (every wait for room is bounded by the FIFO).
     always @(*) begin
         if (f_ok && !rst) begin
             if (rc_v) assert(rc_ch < CHANNELS);

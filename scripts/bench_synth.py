@@ -96,7 +96,7 @@ UP5K_LC, UP5K_RAM = 5280, 30
 # pin (nothing trimmed): what each weighs by itself (docs/engine.md)
 PIECES = [("twh_engine", {"CHANNELS": "3", "TAG_W": "5"},
            "the time-shared engine of three channels (sequencer, frame, receiver, "
-           "queues, result register, pins; its RAMs)"),
+           "queues, result hand-over, pins; its RAMs)"),
           ("twh_polls", {"CHANNELS": "3"}, "three channels' pollers with their registers "
                                            "in RAM"),
           ("twh_fifo", {"W": "33", "DEPTH": "16"}, "the 16-deep command FIFO"),
