@@ -636,11 +636,8 @@ module twh_engine #(
     end
     wire [9:0] t_char  = {1'b1, t_byte, 1'b0};
     wire       t_level = (t_bn >= 4'd9) ? 1'b1 : t_char[t_bn];
-    reg          s4_v, s4_oe, s4_on;
-    reg [CW-1:0] s4_ch;
+    reg          s4_oe, s4_on;
     always @(posedge clk) begin
-        s4_v  <= !rst && s3_v;
-        s4_ch <= s3_ch;
         s4_oe <= (n_ph != `TWH_PH_LISTEN) && (n_ph != `TWH_PH_IDLE || (s3_ich && s3_last));
         s4_on <= (n_ph == `TWH_PH_CHARGE) || (n_ph == `TWH_PH_PREAMBLE) ||
                  (n_ph == `TWH_PH_EXECUTE) || (n_ph == `TWH_PH_IDLE) ||
@@ -667,12 +664,22 @@ module twh_engine #(
     wire s3_full = s3_ctl[C_CN + QW];
     wire s3_busy = (s3_ctl[C_CN +: QW+1] != {(QW+1){1'b0}}) || (s3_word[2:0] != `TWH_PH_IDLE);
     wire s3_pend = s3_ctl[C_CN +: QW+1] != {{QW{1'b0}}, s3_ctl[C_AC]};
+    // Which channel each stage holds, as a shift chain from the tick
+    // rather than a compare of the stage's channel a channel: channel n is
+    // at S0 n+1 clocks after the tick, so sc[i] (the tick i+1 clocks ago)
+    // marks channel n at S0 with sc[n], at S1 with sc[n+1], at S3 with
+    // sc[n+3] and at S4 with sc[n+4].
+    reg [CHANNELS+3:0] sc;
+    always @(posedge clk) begin
+        if (rst) sc <= {(CHANNELS+4){1'b0}};
+        else     sc <= {sc[CHANNELS+2:0], tick};
+    end
     genvar n;
     generate
         for (n = 0; n < CN; n = n + 1) begin : g_ch
             if (n < CHANNELS) begin : g_on
-                wire at_s3 = s3_v && (s3_ch == n);
-                wire at_s1 = s1_v && (s1_ch == n);
+                wire at_s3 = sc[n+3];
+                wire at_s1 = sc[n+1];
                 wire b_n   = b_v && (b_ch == n);     // its command waits for the visit
                 always @(posedge clk) begin
                     if (rst) begin
@@ -700,8 +707,8 @@ module twh_engine #(
                 end
                 twh_engine_pin #(.CLK_HZ(CLK_HZ), .GLITCH_NS(GLITCH_NS)) u_pin (
                     .clk(clk), .rst(rst), .tick(tick), .fall(fall),
-                    .visit(s0_v && (s0_ch == n)), .seen(seen[n]),
-                    .nx_we(s4_v && (s4_ch == n)), .nx_oe(s4_oe), .nx_on(s4_on),
+                    .visit(sc[n]), .seen(seen[n]),
+                    .nx_we(sc[n+4]), .nx_oe(s4_oe), .nx_on(s4_on),
                     .line_i(line_i[n]), .line_o(line_o[n]), .line_oe(line_oe[n])
                 );
                 assign busy[n]    = busy_m[n] || b_n;
@@ -731,6 +738,24 @@ module twh_engine #(
     twh_carrier #(.CLK_HZ(CLK_HZ)) f_timebase (.clk(clk), .rst(rst), .tick(f_tick),
                                                .tick_nx(f_tick_nx), .fall(f_fall));
     always @(*) assume(tick == f_tick && fall == f_fall);
+    // the channel S4 holds (the pins take it by the scan chain, `sc`)
+    reg          s4_v;
+    reg [CW-1:0] s4_ch;
+    always @(posedge clk) begin
+        s4_v  <= !rst && s3_v;
+        s4_ch <= s3_ch;
+    end
+    // the scan chain marks the stages' channels
+    integer f_n;
+    always @(*) begin
+        if (f_ok && !rst)
+            for (f_n = 0; f_n < CHANNELS; f_n = f_n + 1) begin
+                assert(sc[f_n]     == (s0_v && s0_ch == f_n));
+                assert(sc[f_n + 1] == (s1_v && s1_ch == f_n));
+                assert(sc[f_n + 3] == (s3_v && s3_ch == f_n));
+                assert(sc[f_n + 4] == (s4_v && s4_ch == f_n));
+            end
+    end
     // a hand-over at the last clock's S2 (its result went out then)
     reg s3_res;
     always @(posedge clk) s3_res <= !rst && s2_v && hand;
