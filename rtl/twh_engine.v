@@ -208,7 +208,7 @@ module twh_engine #(
     reg  [CN-1:0]        cz_m;           // a flush's count left
     reg  [CN-1:0]        fpend;          // a flush came since its last visit's S1: its
                                          // next visit counts what the flush cancels
-    wire [CN-1:0]        seen;
+    wire [CHANNELS-1:0]  seen;
 
     // ------------------------------------------------------------ scan
     localparam [CW-1:0] LAST_CH = CHANNELS[CW-1:0] - 1'b1;
@@ -226,6 +226,23 @@ module twh_engine #(
             s0_ch <= s0_ch + 1'b1;
         end
     end
+
+    // Which channel each stage holds, as a shift chain from the tick
+    // rather than a compare of the stage's channel a channel: channel n is
+    // at S0 n+1 clocks after the tick, so sc[i] (the tick i+1 clocks ago)
+    // marks channel n at S0 with sc[n], at S1 with sc[n+1], at S2 with
+    // sc[n+2], at S3 with sc[n+3] and at S4 with sc[n+4]. A per-channel
+    // flag is read at a stage through it too (an AND-OR of flag and mark:
+    // shallower than a multiplexer on the stage's channel number, whose
+    // fan-out was the 32-channel critical path).
+    reg [CHANNELS+3:0] sc;
+    always @(posedge clk) begin
+        if (rst) sc <= {(CHANNELS+4){1'b0}};
+        else     sc <= {sc[CHANNELS+2:0], tick};
+    end
+    wire [CHANNELS-1:0] at0 = sc[CHANNELS-1:0];
+    wire [CHANNELS-1:0] at1 = sc[CHANNELS:1];
+    wire [CHANNELS-1:0] at2 = sc[CHANNELS+1:2];
 
     // the timing field the phase after `p` loads (twh_defs.vh)
     function [2:0] fld_of;
@@ -359,13 +376,13 @@ module twh_engine #(
         s1_v    <= !rst && s0_v;
         s1_ch   <= s0_ch;
         s1_init <= s0_init || s0_fwd;
-        s1_env  <= seen[s0_ch];
+        s1_env  <= |(seen & at0);
         s1_c    <= c0;
     end
     // a flush since the channel's last visit (or in this clock) cancels
     // what its queue holds and has not started; else the count left stands
     wire [QW:0]   c1_cnt = s1_c[C_CN +: QW+1];
-    wire [QW:0]   c1_cc  = (fpend[s1_ch] || cancel) ? c1_cnt - {{QW{1'b0}}, s1_c[C_AC]}
+    wire [QW:0]   c1_cc  = (|(fpend[CHANNELS-1:0] & at1) || cancel) ? c1_cnt - {{QW{1'b0}}, s1_c[C_AC]}
                                                     : s1_c[C_CC +: QW+1];
     reg           s2_v, s2_env, s2_ne, s2_last;
     // the word as read, or the state after reset for a channel not yet
@@ -411,7 +428,7 @@ module twh_engine #(
         // command (scan_ch), so a poll-control write in between starts at
         // most the poll that was due, with the command it was checked with;
         // a flush's count
-        s2_pr   <= !rst && poll_req[s1_ch];
+        s2_pr   <= !rst && |(poll_req & at1);
         s2_ccnt <= c1_cc;
         s2_cc   <= c1_cc != {(QW+1){1'b0}};
     end
@@ -611,7 +628,7 @@ module twh_engine #(
         s3_tl     <= c2_tl;
         s3_last   <= last;
         s3_q      <= {f_code, f_pmsb, f_plsb, f_chk};
-        s3_ich    <= cfg_idle_charge[s2_ch];
+        s3_ich    <= |(cfg_idle_charge & at2);
     end
     assign p_take   = !rst && s2_v && start_p;
     assign p_res    = !rst && s2_v && poll_end;
@@ -664,16 +681,6 @@ module twh_engine #(
     wire s3_full = s3_ctl[C_CN + QW];
     wire s3_busy = (s3_ctl[C_CN +: QW+1] != {(QW+1){1'b0}}) || (s3_word[2:0] != `TWH_PH_IDLE);
     wire s3_pend = s3_ctl[C_CN +: QW+1] != {{QW{1'b0}}, s3_ctl[C_AC]};
-    // Which channel each stage holds, as a shift chain from the tick
-    // rather than a compare of the stage's channel a channel: channel n is
-    // at S0 n+1 clocks after the tick, so sc[i] (the tick i+1 clocks ago)
-    // marks channel n at S0 with sc[n], at S1 with sc[n+1], at S3 with
-    // sc[n+3] and at S4 with sc[n+4].
-    reg [CHANNELS+3:0] sc;
-    always @(posedge clk) begin
-        if (rst) sc <= {(CHANNELS+4){1'b0}};
-        else     sc <= {sc[CHANNELS+2:0], tick};
-    end
     genvar n;
     generate
         for (n = 0; n < CN; n = n + 1) begin : g_ch
@@ -724,7 +731,6 @@ module twh_engine #(
                     cz_m[n]        <= 1'b0;
                     fpend[n]       <= 1'b0;
                 end
-                assign seen[n] = 1'b0;
             end
         end
     endgenerate
