@@ -406,6 +406,7 @@ module twh_engine #(
     reg [QE-1:0]  s2_q;
     wire [15:0]   s2_len = t_rd;    // (the timing RAM's register: read at S1)
     reg           s2_pr, s2_cc;
+    reg           s2_en;          // `enable`, taken at S1
     reg [QW:0]    s2_ccnt;
     reg [CTW-1:0] s2_c;
     always @(posedge clk) begin
@@ -429,6 +430,9 @@ module twh_engine #(
         // most the poll that was due, with the command it was checked with;
         // a flush's count
         s2_pr   <= !rst && |(poll_req & at1);
+        // (the enable a clock ahead too: a flip-flop of the step's own,
+        // off CTRL's fan-out, which was the UP5K's critical path)
+        s2_en   <= enable;
         s2_ccnt <= c1_cc;
         s2_cc   <= c1_cc != {(QW+1){1'b0}};
     end
@@ -482,8 +486,8 @@ module twh_engine #(
     // unless the engine is off and it would reach the line; a due poll goes
     // on its turn or when no command can.
     wire [3:0]   h_skip  = s2_cc ? `TWH_ST_CANCELLED : q_skip;
-    wire         cmd_go  = s2_ne && (enable || h_skip != 4'd0);
-    wire         poll_go = enable && s2_pr;
+    wire         cmd_go  = s2_ne && (s2_en || h_skip != 4'd0);
+    wire         poll_go = s2_en && s2_pr;
     wire         use_poll = poll_go && (s2_c[C_PF] || !cmd_go);
     wire [15:0]  p_cmd   = poll_cmd;        // (twh_polls' RAM register: read at S1)
     wire         idle_go = s2_idle_go;      // (ph == IDLE) && last && !rwait, at S1
@@ -1202,14 +1206,15 @@ module twh_engine #(
     // idle's count and the claim's bound above, a queued command waits at
     // most one poll's transaction once its channel is idle): the poll
     // request and command the core gives in the visit's S1 clock, and the
-    // enable in its S2 clock, against what the write holds.
-    reg        f_pr2, f_pr3, f_en3, f_env3;
+    // enable in its S1 clock, against what the write holds.
+    reg        f_pr2, f_pr3, f_en2, f_en3, f_env3;
     reg [15:0] f_pc3;
     always @(posedge clk) begin
         f_pr2  <= poll_req[f_ch];
         f_pr3  <= f_pr2;
         f_pc3  <= poll_cmd;
-        f_en3  <= enable;
+        f_en2  <= enable;
+        f_en3  <= f_en2;
         f_env3 <= s2_env;
     end
     wire       f_go    = f_oph == `TWH_PH_IDLE && f_pre_last && !f_pre[19];
