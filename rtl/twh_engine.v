@@ -685,6 +685,9 @@ module twh_engine #(
     wire s3_full = s3_ctl[C_CN + QW];
     wire s3_busy = (s3_ctl[C_CN +: QW+1] != {(QW+1){1'b0}}) || (s3_word[2:0] != `TWH_PH_IDLE);
     wire s3_pend = s3_ctl[C_CN +: QW+1] != {{QW{1'b0}}, s3_ctl[C_AC]};
+    // each pin samples its window flag at its channel's S0 and takes the
+    // drive its channel's S4 holds
+    wire [CHANNELS-1:0] pin_vis, pin_we;
     genvar n;
     generate
         for (n = 0; n < CN; n = n + 1) begin : g_ch
@@ -718,10 +721,12 @@ module twh_engine #(
                 end
                 twh_engine_pin #(.CLK_HZ(CLK_HZ), .GLITCH_NS(GLITCH_NS)) u_pin (
                     .clk(clk), .rst(rst), .tick(tick), .fall(fall),
-                    .visit(sc[n]), .seen(seen[n]),
-                    .nx_we(sc[n+4]), .nx_oe(s4_oe), .nx_on(s4_on),
+                    .visit(pin_vis[n]), .seen(seen[n]),
+                    .nx_we(pin_we[n]), .nx_oe(s4_oe), .nx_on(s4_on),
                     .line_i(line_i[n]), .line_o(line_o[n]), .line_oe(line_oe[n])
                 );
+                assign pin_vis[n] = sc[n];
+                assign pin_we[n]  = sc[n+4];
                 assign busy[n]    = busy_m[n] || b_n;
                 assign pending[n] = pend_m[n] || b_n;
                 assign full[n]    = full_m[n] || b_v;
@@ -764,8 +769,19 @@ module twh_engine #(
                 assert(sc[f_n + 1] == (s1_v && s1_ch == f_n));
                 assert(sc[f_n + 3] == (s3_v && s3_ch == f_n));
                 assert(sc[f_n + 4] == (s4_v && s4_ch == f_n));
+                // ... and the pins take their own channel's
+                assert(pin_vis[f_n] == (s0_v && s0_ch == f_n) &&
+                       pin_we[f_n]  == (s4_v && s4_ch == f_n));
             end
     end
+    // a visit's line flag is its own channel's pin's window flag, as S0
+    // sampled it
+    reg f_seen1, f_sv;
+    always @(posedge clk) begin
+        f_seen1 <= seen[f_ch];
+        f_sv    <= !rst;
+    end
+    always @(*) if (f_ok && !rst && f_sv && s1_v && s1_ch == f_ch) assert(s1_env == f_seen1);
     // a hand-over at the last clock's S2 (its result went out then)
     reg s3_res;
     always @(posedge clk) s3_res <= !rst && s2_v && hand;
