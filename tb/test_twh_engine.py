@@ -161,7 +161,12 @@ class EngineTB:
                 return payload
         raise AssertionError(r)
 
-    def finish(self):
+    async def finish(self):
+        # A result goes out at the visit after the listen's last, up to a
+        # carrier period before the turnaround's drive reaches the line
+        # (the drive lands one or two ticks after its visit): let the line
+        # leave the listen before the monitor closes its last transaction.
+        await Timer(2, "us")
         for m in self.monitors:
             m.finish()
         for ch in range(self.n):
@@ -199,7 +204,7 @@ async def concurrent_pages(dut):
     assert elapsed < (len(cmds) + 1) * TXN_US, elapsed
     starts = [tb.monitors[ch].transactions[0].start_ps / 1e6 for ch in range(tb.n)]
     assert max(starts) - min(starts) < 100, starts
-    tb.finish()
+    await tb.finish()
 
 
 @cocotb.test()
@@ -225,7 +230,7 @@ async def faults_per_channel(dut):
         r = await tb.result(ch)
         assert r.status == plan[ch % len(plan)][1], (ch, r)
         tb.check_channel(ch, [r])
-    tb.finish()
+    await tb.finish()
 
 
 @cocotb.test()
@@ -275,7 +280,7 @@ async def no_head_of_line_blocking(dut):
     assert all(x.status == Status.OK for x in got0[:3]), got0
     assert got0[3].status == Status.BLOCKED and got0[3].data == 0
     tb.check_channel(0, got0)
-    tb.finish()
+    await tb.finish()
 
 
 @cocotb.test()
@@ -303,7 +308,7 @@ async def results_held_back(dut):
         got = await drain(tb, ch, 2)
         assert [r.tag for r in got] == [1, 2] and all(r.status == Status.OK for r in got), got
         tb.check_channel(ch, got)
-    tb.finish()
+    await tb.finish()
 
 
 @cocotb.test()
@@ -363,7 +368,7 @@ async def result_register_fairness(dut):
     tb.check_channel(2, [r])
     for ch in (0, 1):
         tb.check_channel(ch, await drain(tb, ch, fed))
-    tb.finish()
+    await tb.finish()
 
 
 @cocotb.test()
@@ -397,7 +402,7 @@ async def reset_mid_transaction(dut):
     for ch in range(tb.n):
         r = await tb.result(ch)
         assert r.status == Status.OK and r.tag == 5, (ch, r)
-    tb.finish()
+    await tb.finish()
 
 
 @cocotb.test()
@@ -429,7 +434,7 @@ async def idle_charge_and_phase(dut):
         tb.check_channel(ch, [r])
         assert seen[ch] >= {p.Phase.CHARGE, p.Phase.SYNC, p.Phase.PREAMBLE, p.Phase.COMMAND,
                             p.Phase.EXECUTE, p.Phase.LISTEN}, (ch, seen[ch])
-    tb.finish()
+    await tb.finish()
 
 
 TESTS = ["concurrent_pages", "faults_per_channel", "stuck_lines", "no_head_of_line_blocking",
