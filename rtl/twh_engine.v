@@ -12,7 +12,7 @@
 // (S1) and are registered (S2; the length and a poll's command are read at
 // S1 into their RAMs' own registers), the next word and the queue's moves
 // are computed from them and registered (S3; a result handed over goes
-// straight to m_res_* there and then), and written three
+// out on m_res_* in the clock it is computed, S2's), and written three
 // clocks after the read, while the drive for the next period is computed
 // from the new word (S4: the pin takes it a clock later). A channel is read
 // again a carrier period (P clocks, P >= 4) after its last read, so it
@@ -767,6 +767,7 @@ module twh_engine #(
             for (f_n = 0; f_n < CHANNELS; f_n = f_n + 1) begin
                 assert(sc[f_n]     == (s0_v && s0_ch == f_n));
                 assert(sc[f_n + 1] == (s1_v && s1_ch == f_n));
+                assert(sc[f_n + 2] == (s2_v && s2_ch == f_n));
                 assert(sc[f_n + 3] == (s3_v && s3_ch == f_n));
                 assert(sc[f_n + 4] == (s4_v && s4_ch == f_n));
                 // ... and the pins take their own channel's
