@@ -397,7 +397,7 @@ module twh_engine #(
                        .dec(d1_rx), .status(d1_status));
     // (the answer's data is its bytes when OK or BAD_CHECKSUM)
     wire          d1_ok = (d1_status == `TWH_ST_OK) || (d1_status == `TWH_ST_BAD_CHECKSUM);
-    reg           s2_idle_go;
+    reg           s2_idle_go, s2_pend;
     reg [7:0]     s2_rdec;
     reg [3:0]     s2_status;
     reg           s2_ok;
@@ -423,6 +423,9 @@ module twh_engine #(
         s2_status <= d1_status;
         s2_ok   <= d1_ok;
         s2_last <= s1_init ? (st_rd[18:4] == 15'd0) : 1'b0;
+        // a poll's listen ends: into twh_polls' result write, off the step
+        s2_pend <= s1_init && (st_rd[2:0] == `TWH_PH_LISTEN) && (st_rd[18:4] == 15'd0) &&
+                   st_rd[PL];
         s2_q    <= q_rd;
         // what the step chooses from, taken a clock ahead (off the step's
         // path): the poll's request, in the clock twh_polls reads its
@@ -453,13 +456,17 @@ module twh_engine #(
                               (s2_q[1:0] == SK_BLOCKED)   ? `TWH_ST_BLOCKED : 4'd0;
     // The frame the command phase sends: the queue's head, or a poll's code
     // and payload from its word (SH), a 3-byte frame; its checksum
-    // (NOTES.md: one's complement of the 8-bit sum) is taken here for both,
-    // off the step's path: it goes only into s3_q
+    // (NOTES.md: one's complement of the 8-bit sum) is taken here, off the
+    // step's path (it goes only into s3_q), by an adder each in front of
+    // the choice: one adder behind the choice put the poll flag's fan-out
+    // and the carry chain in one path, the ECP5-25F's longest
     wire [7:0]       f_code = w[PL] ? w[SH +: 8]   : q_code;
     wire [7:0]       f_pmsb = w[PL] ? 8'd0         : q_pmsb;
     wire [7:0]       f_plsb = w[PL] ? w[SH+8 +: 8] : q_plsb;
-    wire [7:0]       f_chk;
-    twh_checksum u_chk (.a(f_code), .b(f_pmsb), .c(f_plsb), .chk(f_chk));
+    wire [7:0]       q_chk, p_chk;
+    twh_checksum u_qchk (.a(q_code), .b(q_pmsb), .c(q_plsb), .chk(q_chk));
+    twh_checksum u_pchk (.a(w[SH +: 8]), .b(8'd0), .c(w[SH+8 +: 8]), .chk(p_chk));
+    wire [7:0]       f_chk = w[PL] ? p_chk : q_chk;
 
     // the receiver: its fields (data bits at SH) and the answer's verdict
     wire [15:0] r_sh      = w[SH +: 16];
@@ -476,10 +483,15 @@ module twh_engine #(
     // no other channel hands over, so it gets the next free place at its
     // next visit, and gives the claim back then. Every waiting result is
     // handed over within about a period a channel while results flow.
+    // Whether the claim lets the visit hand over (no claim, or its own) is
+    // taken at S1 from the claim as this clock leaves it (below): the
+    // compare in front of the hand-over and the result FIFO's push was the
+    // UP5K's longest path at three channels.
     wire res_free = m_res_ready;
     reg          rc_v;
     reg [CW-1:0] rc_ch;
-    wire         res_mine = !rc_v || (rc_ch == s2_ch);
+    reg          s2_mine;
+    wire         res_mine = s2_mine;
 
     // What an idle channel may start (taken at S1, above). The head's skip
     // is CANCELLED while a flush's count is left; a queued command goes
@@ -493,7 +505,7 @@ module twh_engine #(
     wire         idle_go = s2_idle_go;      // (ph == IDLE) && last && !rwait, at S1
     wire         start_q = idle_go && !use_poll && cmd_go;    // the head entry starts
     wire         start_p = idle_go && use_poll;               // the poll starts
-    wire         poll_end = (ph == `TWH_PH_LISTEN) && last && w[PL];
+    wire         poll_end = s2_pend;      // (ph == LISTEN) && last && w[PL], at S1
 
     // the sequencer's step
     reg [W-1:0] wn;
@@ -606,17 +618,15 @@ module twh_engine #(
         cn_w[C_PH +: 3] = wn[2:0];
     end
 
+    // The claim: a hand-over with the claim held is its holder's (res_mine)
+    // and gives it back; the first channel refused takes it.
+    wire         rc_take = s2_v && !rc_v && rwait && !hand;
+    wire         rc_v_n  = rc_v ? !(s2_v && hand) : rc_take;
+    wire [CW-1:0] rc_ch_n = rc_take ? s2_ch : rc_ch;
     always @(posedge clk) begin
-        if (rst) begin
-            rc_v <= 1'b0;
-        end else if (s2_v) begin
-            if (rc_v && rc_ch == s2_ch && hand) begin
-                rc_v <= 1'b0;
-            end else if (!rc_v && rwait && !hand) begin
-                rc_v  <= 1'b1;
-                rc_ch <= s2_ch;
-            end
-        end
+        rc_v    <= !rst && rc_v_n;
+        rc_ch   <= rc_ch_n;
+        s2_mine <= !rc_v_n || (rc_ch_n == s1_ch);
     end
 
     // ------------------------------------------------------------ S3
@@ -1123,6 +1133,10 @@ module twh_engine #(
     always @(*) begin
         if (f_ok && !rst) begin
             if (rc_v) assert(rc_ch < CHANNELS);
+            // (the compare taken at S1 is the claim as S2 finds it)
+            if (s2_v) assert(s2_mine == (!rc_v || rc_ch == s2_ch));
+            // (a poll's end taken at S1 is the word's at S2)
+            if (s2_v) assert(poll_end == ((ph == `TWH_PH_LISTEN) && last && w[PL]));
             if (s2_v && hand && rc_v) assert(rc_ch == s2_ch);
             if (rc_v && rc_ch == f_ch) assert(f_cur[19]);
             if (s2_v && s2_ch == f_ch && rc_v && rc_ch == f_ch) assert(!(s3_v && s3_res));

@@ -47,13 +47,19 @@ module twh_rx_dec (
     wire st = (nb != 2'd0) || fe || en || (ac && (bn != 4'd0 || sub >= 5'd20));
     wire [7:0] chk;
     twh_checksum u_chk (.a(sh[7:0]), .b(sh[15:8]), .c(8'd0), .chk(chk));
+    // the checksum's verdict is the last choice, not inside the chain of
+    // the others: its adder is the slowest input (the ECP5-25F's longest
+    // path at one channel)
+    wire full = sync_low && pre_high && !fe && (nb == 2'd3);
+    reg [3:0] other;
     always @(*) begin
-        if (!sync_low)         status = `TWH_ST_LINE_STUCK_HIGH;
-        else if (!pre_high)    status = `TWH_ST_LINE_STUCK_LOW;
-        else if (fe)           status = `TWH_ST_FRAMING;
-        else if (nb == 2'd3)   status = (chk == sh[23:16]) ? `TWH_ST_OK : `TWH_ST_BAD_CHECKSUM;
-        else if (st)           status = `TWH_ST_SHORT_RESPONSE;
-        else                   status = `TWH_ST_NO_RESPONSE;
+        if (!sync_low)         other = `TWH_ST_LINE_STUCK_HIGH;
+        else if (!pre_high)    other = `TWH_ST_LINE_STUCK_LOW;
+        else if (fe)           other = `TWH_ST_FRAMING;
+        else if (st)           other = `TWH_ST_SHORT_RESPONSE;
+        else                   other = `TWH_ST_NO_RESPONSE;
+        if (full)              status = (chk == sh[23:16]) ? `TWH_ST_OK : `TWH_ST_BAD_CHECKSUM;
+        else                   status = other;
     end
 endmodule
 `default_nettype wire
