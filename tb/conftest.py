@@ -33,9 +33,8 @@ HANG_FACTOR = 2
 # start the two Verilator builds most tests share (tb/simrun.py: the bus
 # core's, with the Verilator runtime, then the engine's, which waits for
 # that runtime on its lock while the first build compiles it on both
-# cores). test_netlist.py stays last: first, both cores started its four
-# cases at once and built its netlist twice (make test-slow 947 s on a fresh
-# clone against 907 s with it last).
+# cores). test_netlist.py's first case goes before them all and its others
+# last (below): all four first, both cores started on its one netlist.
 LONG_MODULES = ("test_random.py", "test_twh_link.py", "test_twh_core.py", "test_twh_engine.py",
                 "test_cosim.py", "test_board_top.py")
 
@@ -49,8 +48,17 @@ def pytest_configure(config):
 
 
 def pytest_collection_modifyitems(config, items):
+    # test_netlist.py (make test-slow): its first case goes first of all,
+    # its others last. The first builds the netlist (Yosys, then Verilator:
+    # a core for about two minutes, with the other core free for
+    # test_random); the others find it built. Last together, one case
+    # built it while the other waited on its lock with a core idle.
+    netlist = [i for i in items if Path(str(i.fspath)).name == "test_netlist.py"]
+
     def rank(item):
         name = Path(str(item.fspath)).name
+        if name == "test_netlist.py":
+            return -1 if item is netlist[0] else len(LONG_MODULES) + 1
         return LONG_MODULES.index(name) if name in LONG_MODULES else len(LONG_MODULES)
     items.sort(key=rank)    # stable: the order inside a module stays
 
