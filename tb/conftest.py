@@ -49,10 +49,10 @@ def pytest_configure(config):
 
 def pytest_collection_modifyitems(config, items):
     # test_netlist.py (make test-slow): its first case goes first of all,
-    # its others last. The first builds the netlist (Yosys, then Verilator:
-    # a core for about two minutes, with the other core free for
-    # test_random); the others find it built. Last together, one case
-    # built it while the other waited on its lock with a core idle.
+    # its others last. The first builds the netlist (Yosys, then Verilator)
+    # while the other worker runs test_random; the others find it built.
+    # Last together, one case built it while the other waited on its lock,
+    # its core idle through Yosys and the verilating.
     netlist = [i for i in items if Path(str(i.fspath)).name == "test_netlist.py"]
 
     def rank(item):
