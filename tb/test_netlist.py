@@ -8,7 +8,8 @@ channels and 4 MHz (Wishbone, 16-deep FIFOs) synthesized as the iCE40
 builds are (Yosys with SYNTH_FLOW, no placement), simulated on Verilator
 with Yosys's iCE40 cell models (on Icarus the time-shared engine's netlist,
 its 27 block RAMs' models stepping every clock, took over ten minutes a
-case; Verilator builds it once for the four cases), under the same cocotb cases as the RTL: the
+case; Verilator builds it once for the four cases, with only the bench's
+signals public: tb/netlist_public.vlt), under the same cocotb cases as the RTL: the
 peripheral models answer, the spec monitors time every transaction, and
 every result is checked. Only the waveform names the RTL shows are absent
 (tb_core.v, TWH_NETLIST).
