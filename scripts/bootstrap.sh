@@ -9,7 +9,7 @@ cd "$(dirname "$0")/.."
 # command -> Debian package
 tools=(iverilog:iverilog vvp:iverilog verilator:verilator yosys:yosys make:make gcc:gcc
        g++:g++ arm-none-eabi-gcc:gcc-arm-none-eabi arm-none-eabi-size:binutils-arm-none-eabi
-       sigrok-cli:sigrok-cli z3:z3 clang-14:clang-14 bc:bc
+       sigrok-cli:sigrok-cli clang-14:clang-14 bc:bc
        riscv64-unknown-elf-gcc:gcc-riscv64-unknown-elf)
 [ "${1:-}" = "--waves" ] && tools+=(gtkwave:gtkwave)
 
