@@ -1070,11 +1070,17 @@ async def lean_build(dut):
     assert all(len(tb.txns(ch)) == 0 for ch in range(tb.channels))
     assert await tb.read("POLL_READY") == 0
 
-    # ---- commands run, with the fixed (default) phase lengths
+    # ---- commands run, with the fixed (default) phase lengths: one a
+    # channel, all at once (the channels run concurrently)
     for ch in range(tb.channels):
+        await tb.push(0x41, ch=ch, tag=ch + 1)
+    got_res = {(r.channel, r.tag): r for r in await tb.wait_results(tb.channels)}
+    for ch in range(tb.channels):
+        tb.monitors[ch].check()
         prof = tb.profiles[ch]
-        r = await tb.command(0x41, ch=ch, tag=ch + 1)
-        assert r.status == OK and r.data == prof.fw_byte << 8 | prof.type_byte, r
+        assert (ch, ch + 1) in got_res, (ch, got_res)
+        r = got_res[(ch, ch + 1)]
+        assert r.cmd == 0x41 and r.status == OK and r.data == prof.fw_byte << 8 | prof.type_byte, r
         tx = tb.txns(ch)[-1]
         got = (round(tx.charge_us), round(tx.sync_us), round(tx.preamble_us),
                round(tx.execute_us), round(tx.listen_us))
