@@ -117,10 +117,19 @@ class PortReady:
 
     async def _count(self):
         d = self.dut
+        clk, rst_rise = RisingEdge(d.clk), RisingEdge(d.rst)
         while True:
-            await RisingEdge(d.clk)
+            await clk
             # (rst as the edge takes it: a write in this step comes after)
-            self.edges = 0 if int(d.rst.value) else self.edges + 1
+            if int(d.rst.value):
+                self.edges = 0
+            elif self.edges < self.sweep:
+                self.edges += 1
+            else:
+                # ready until an edge takes rst high: nothing to count till
+                # rst rises (a Python wake-up every clock was a third of an
+                # Icarus run's time)
+                await rst_rise
 
     def ready(self) -> bool:
         return self.edges >= self.sweep
