@@ -127,8 +127,8 @@ class PortReady:
                 self.edges += 1
             else:
                 # ready until an edge takes rst high: nothing to count till
-                # rst rises (a Python wake-up every clock was a third of an
-                # Icarus run's time)
+                # rst rises (a Python wake-up every clock was a quarter of
+                # an Icarus run's time)
                 await rst_rise
 
     def ready(self) -> bool:

@@ -113,7 +113,7 @@ class EngineTB:
         fall, valid_rise = FallingEdge(d.clk), RisingEdge(d.m_res_valid)
         while True:
             # a falling edge only while a result may be offered: waking at
-            # every one cost more than the simulation at 16 and 32 MHz
+            # every one was a third of a run at 16 MHz
             if not int(d.m_res_valid.value):
                 await valid_rise
             await fall
