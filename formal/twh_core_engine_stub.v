@@ -33,6 +33,7 @@ module twh_core_engine #(
     parameter integer CLK_HZ    = 48_000_000,
     parameter integer CHANNELS  = 1,
     parameter integer POLLING   = 1,
+    parameter integer PROG_TIMING = 1,   // (the real one's: its engine's lengths; none here)
     parameter integer RAM_BLOCK = 1
 ) (
     input  wire                   clk,

@@ -460,7 +460,7 @@ module twh_core #(
     );
 
     twh_core_engine #(.CLK_HZ(CLK_HZ), .CHANNELS(CH_N), .POLLING(POLLING),
-                      .RAM_BLOCK(RAM_BLOCK)) u_engine (
+                      .PROG_TIMING(PROG_TIMING), .RAM_BLOCK(RAM_BLOCK)) u_engine (
         .clk(clk), .rst(rst), .ms_tick(ms_tick), .sw_we(t_sw_we), .sw_ch(t_sw_ch),
         .tick(us_tick), .fall(us_fall), .enable(enable), .idle_charge(idle_charge[CH_N-1:0]),
         .wdata(q_wdata), .pc_wr(q_wp && wr && q_win_p), .rd_ctrl(q_r_pc),

@@ -26,6 +26,7 @@ module twh_core_engine #(
     parameter integer CLK_HZ   = 48_000_000,
     parameter integer CHANNELS = 1,
     parameter integer POLLING  = 1,
+    parameter integer PROG_TIMING = 1,   // 0: the engine runs the default lengths (no timing RAM)
     parameter integer RAM_BLOCK = 1      // the engine's and pollers' memories in block RAM (twh_core)
 ) (
     input  wire                   clk,
@@ -103,7 +104,8 @@ module twh_core_engine #(
     wire [4:0]             r_tag;
     // (its clock floor is the core's twh_carrier's to check)
     twh_engine #(.CLK_HZ(CLK_HZ), .CHANNELS(CHANNELS), .TAG_W(5), .QDEPTH(4),
-                 .CHECK_FLOOR(0), .RAM_BLOCK(RAM_BLOCK)) u_engine (
+                 .CHECK_FLOOR(0), .RAM_BLOCK(RAM_BLOCK),
+                 .FIXED_TIMING(PROG_TIMING != 0 ? 0 : 1)) u_engine (
         .clk(clk), .rst(rst), .tick(tick), .fall(fall), .cfg_idle_charge(idle_charge),
         .enable(enable), .cancel(cancel), .poll_req(p_due), .poll_cmd(p_cmd), .scan_ch(scan_ch),
         .t_we(dur_v), .t_ch(t_ch), .t_fld(dur_fld), .t_len(dur),

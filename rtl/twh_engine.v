@@ -76,6 +76,10 @@ module twh_engine #(
     parameter integer RAM_BLOCK = 1,
     // 0: the clock floor is checked by the core's twh_carrier instead
     parameter integer CHECK_FLOOR = 1,
+    // 1: every channel runs the spec's default lengths (the core's
+    // PROG_TIMING = 0): no timing RAM, t_* unused, the length a decode of
+    // the field registered where the RAM's output register would be
+    parameter integer FIXED_TIMING = 0,
     // derived, not to be set
     parameter integer CW        = (CHANNELS > 1) ? $clog2(CHANNELS) : 1
 ) (
@@ -245,6 +249,18 @@ module twh_engine #(
     wire [CHANNELS-1:0] at2 = sc[CHANNELS+1:2];
 
     // the timing field the phase after `p` loads (twh_defs.vh)
+    // a field's default length (twh_timing's codes: 1 charge .. 6 turnaround)
+    function [15:0] fixed_len;
+        input [2:0] f;
+        case (f)
+            3'd1:    fixed_len = `TWH_CHARGE_DEF;
+            3'd2:    fixed_len = `TWH_SYNC_DEF;
+            3'd3:    fixed_len = `TWH_PREAMBLE_DEF;
+            3'd4:    fixed_len = `TWH_EXECUTE_DEF;
+            3'd5:    fixed_len = `TWH_LISTEN_DEF;
+            default: fixed_len = `TWH_TURNAROUND_DEF;
+        endcase
+    endfunction
     function [2:0] fld_of;
         input [2:0] p;
         fld_of = `TWH_FLD_OF(p);
@@ -363,13 +379,29 @@ module twh_engine #(
     // the step's multiplexer, not a select, so the RAM's slower output is
     // off the step's longest paths.)
     wire [15:0] t_rd;
-    twh_ram #(.W(16), .AW(CW + 3), .BLOCK(RAM_BLOCK)) u_timing (
-        .clk(clk), .we(t_we), .waddr({t_ch, t_fld}), .wdata(t_len),
-        .raddr({s1_ch, fld_of(s1_c[C_PH +: 3])}), .rdata(t_rd)
+    generate
+        if (FIXED_TIMING == 0) begin : g_tram
+            twh_ram #(.W(16), .AW(CW + 3), .BLOCK(RAM_BLOCK)) u_timing (
+                .clk(clk), .we(t_we), .waddr({t_ch, t_fld}), .wdata(t_len),
+                .raddr({s1_ch, fld_of(s1_c[C_PH +: 3])}), .rdata(t_rd)
 `ifdef FORMAL
-        , .f_addr({f_ch, f_tf}), .f_data(f_tm)
+                , .f_addr({f_ch, f_tf}), .f_data(f_tm)
 `endif
-    );
+            );
+        end else begin : g_tfix
+            // the defaults lie in their windows: what twh_timing would hand
+            // over with PROG = 0 (a block RAM fewer, and no fetch to feed it)
+            reg [15:0] t_fx;
+            always @(posedge clk) t_fx <= fixed_len(fld_of(s1_c[C_PH +: 3]));
+            assign t_rd = t_fx;
+`ifdef FORMAL
+            assign f_tm = fixed_len(f_tf);
+`endif
+            // verilator lint_off UNUSEDSIGNAL
+            wire unused_t = t_we ^ (^t_ch) ^ (^t_fld) ^ (^t_len);
+            // verilator lint_on UNUSEDSIGNAL
+        end
+    endgenerate
 
     // ------------------------------------------------------------ S1, S2
     always @(posedge clk) begin
@@ -1228,7 +1260,12 @@ module twh_engine #(
     always @(posedge clk) f_t2 <= f_tm;
     always @(*) begin
         if (f_ok && !rst) begin
-            if (f_tv) assert(f_tm == f_tl);
+            if (f_tv && FIXED_TIMING == 0) assert(f_tm == f_tl);
+            // fixed timing: the field's default of NOTES.md, written out
+            if (FIXED_TIMING != 0)
+                assert(f_tm == ((f_tf == 3'd1) ? 16'd8000 : (f_tf == 3'd2) ? 16'd1000 :
+                                (f_tf == 3'd3) ? 16'd2000 : (f_tf == 3'd4) ? 16'd4000 :
+                                (f_tf == 3'd5) ? 16'd3000 : 16'd2000));
             if (s2_v && s2_ch == f_ch && f_s2_fld == f_tf) assert(s2_len == f_t2);
         end
     end
