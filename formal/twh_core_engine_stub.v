@@ -2,13 +2,10 @@
 // pollers) in formal/twh_core.sby's eng tasks. It keeps the command path of
 // the engine as formal/twh_engine.sby proves it and tb/test_twh_engine.py
 // tests it, and nothing else:
-//   - each channel has a queue of four entries; the core pushes (cmd_valid)
-//     only into a channel whose queue is not full (`full`; the core's proof
-//     checks that). The real engine's `full` is also 1 while a command it
-//     took waits (at most a carrier period) for its channel's visit, which
-//     writes it into the queue, and a flush meanwhile marks it CANCELLED;
-//     this stand-in takes the command into its queue at once, so the proof
-//     does not see that wait, which only delays the next dispatch;
+//   - each channel has a queue of four entries; the core offers a command
+//     (cmd_valid, held until taken) and it is taken (cmd_ready) at any
+//     moment its channel's queue is not full, as the real engine takes it
+//     at its channel's visit (within a carrier period once there is room);
 //   - the head starts at a free moment, when `enable` is 1 or it has a skip
 //     code; started, it gives a link status (0-6) and data, or, with a skip
 //     code (BLOCKED, CANCELLED), that status and data 0 without reaching
@@ -65,8 +62,8 @@ module twh_core_engine #(
     input  wire [15:0]            cmd_payload,
     input  wire [4:0]             cmd_tag,
     input  wire [3:0]             cmd_skip,
+    output wire                   cmd_ready,
     input  wire                   cancel,
-    output wire [CHANNELS-1:0]    full,
     output wire                   cancelling,
     output wire                   res_valid,
     input  wire                   res_ready,
@@ -86,6 +83,7 @@ module twh_core_engine #(
     (* anyseq *) reg [CHANNELS*3-1:0]  f_nx;
     (* anyseq *) reg [CHANNELS-1:0]    f_sample, f_line_o, f_line_oe;
     (* anyseq *) reg                   f_perr, f_canc;
+    (* anyseq *) reg                   f_take;     // the offered command's visit is now
 
     localparam integer E = 17;                       // {skip, tag, code}
     wire [CHANNELS*4*E-1:0] f_q;
@@ -99,6 +97,10 @@ module twh_core_engine #(
     wire [3:0] link_status = (f_status > `TWH_ST_LINE_STUCK_HIGH) ? `TWH_ST_NO_RESPONSE : f_status;
 
     wire [CHANNELS-1:0] f_pop, f_strt;
+    wire [CHANNELS-1:0] f_full;
+    wire [CHANNELS+31:0] f_full_x = {32'd0, f_full};
+    // (the core offers only existing channels: its proof checks that)
+    assign cmd_ready = !rst && f_take && !f_full_x[cmd_ch];
     // (one channel pops at a time: f_dch names it)
     integer c;
     always @(*) begin
@@ -147,15 +149,15 @@ module twh_core_engine #(
                         for (i = 0; i < 4; i = i + 1)
                             if (i < cnt && (i != 0 || !(st || f_strt[n])))
                                 q[(i - (f_pop[n] ? 1 : 0))*E + 13 +: 4] <= `TWH_ST_CANCELLED;
-                    if (cmd_valid && cmd_ch == n)
+                    if (cmd_valid && cmd_ready && cmd_ch == n)
                         q[kept*E +: E] <= {cmd_skip, cmd_tag, cmd_code};
-                    cnt <= kept + {2'd0, cmd_valid && cmd_ch == n};
+                    cnt <= kept + {2'd0, cmd_valid && cmd_ready && cmd_ch == n};
                 end
             end
             assign f_q[n*4*E +: 4*E] = q;
             assign f_n[n*3 +: 3]     = cnt;
             assign f_st[n]           = st;
-            assign full[n]        = (cnt == 3'd4);
+            assign f_full[n]      = (cnt == 3'd4);
             assign status_busy[n] = (cnt != 3'd0) || f_poll[n];
         end
     endgenerate

@@ -322,10 +322,10 @@ module twh_core #(
     reg        enable, lab, factory_armed;
     reg [LW-1:0] flush_left;    // queued commands a flush still has to cancel
     reg        flushing;        // flush_left != 0, kept as a flag: it steers dispatch
-    wire [LW-1:0] flush_new = cmd_level - {{(LW-1){1'b0}}, dispatch};   // what a flush now cancels
-    // flush_new != 0, with dispatch as the last choice rather than through
+    wire [LW-1:0] flush_new = cmd_level - {{(LW-1){1'b0}}, take};   // what a flush now cancels
+    // flush_new != 0, with the take as the last choice rather than through
     // the subtraction (it was ECP5's critical path)
-    wire       flush_new_nz = dispatch ? (cmd_level != {{(LW-1){1'b0}}, 1'b1})
+    wire       flush_new_nz = take ? (cmd_level != {{(LW-1){1'b0}}, 1'b1})
                                        : (cmd_level != {LW{1'b0}});
     reg [CH_N-1:0] idle_charge;
     reg        ie_result, ie_error, ie_poll;
@@ -357,29 +357,31 @@ module twh_core #(
     wire [4:0]  h_tag     = cmd_head[33:29];
     wire        h_blocked = cmd_head[34];
 
-    wire [CHANNELS-1:0] slot_full;
-    wire [31:0] slot_full8;          // (padded to the map's 32 channels)
-    // the head's channel can take it: its queue is not full (slot_full8
-    // holds the queues' full flags, and "a command waits for its visit")
-    wire h_slot_free = !slot_full8[h_ch];
-    // Dispatch is decided one clock and done the next: the decision reads the
-    // FIFO's RAM output (slow on iCE40), the pop and the engine's take then
-    // start from a flip-flop. The head and its queue's full flag cannot
-    // change in between.
+    // Dispatch: the FIFO's head is offered to the engine (`dispatch`, a
+    // flip-flop, as are its channel and blocked flag: the decision reads
+    // the FIFO's RAM output, slow on iCE40) and stays offered, unchanged,
+    // until the engine takes it (`take`: its channel's visit, with room in
+    // the channel's queue), which pops it. So a command waits at the head
+    // of the FIFO for its visit, not in a register of the engine, and a
+    // flush meanwhile counts it among the FIFO's. After a take the next
+    // head is offered from the clock after next.
     reg  dispatch;
+    wire e_ready;            // the engine takes the offered command now
+    wire take = dispatch && e_ready;
     reg  [4:0] disp_ch;
     reg        disp_blk;     // h_blocked, taken with the decision like disp_ch
                              // (the RAM output was HX8K's path into BLOCKED)
     always @(posedge clk) begin
-        if (rst) dispatch <= 1'b0;
-        else     dispatch <= !dispatch && !cmd_empty && (enable || flushing) && h_slot_free;
-        if (!cmd_empty) begin    // (only read with dispatch, which needs a head)
+        if (rst)           dispatch <= 1'b0;
+        else if (dispatch) dispatch <= !e_ready;
+        else               dispatch <= !cmd_empty && (enable || flushing);
+        if (!dispatch) begin     // (held while offered: the head does not change)
             disp_ch  <= h_ch;
             disp_blk <= h_blocked;
         end
     end
-    // a flush written in the clock a command is dispatched cancels it too:
-    // it was queued when the flush came (the engine's cancel misses it)
+    // a flush written in the clock a command is taken cancels it too: it
+    // was queued when the flush came (the engine's cancel misses it)
     wire       flush_wr = q_flush;
     wire [3:0] h_skip = (flushing || flush_wr) ? `TWH_ST_CANCELLED :
                         disp_blk               ? `TWH_ST_BLOCKED : 4'd0;
@@ -387,7 +389,7 @@ module twh_core #(
     twh_fifo #(.W(35), .DEPTH(DEPTH_N)) u_cmd_fifo (
         .clk(clk), .rst(rst),
         .push(push_ok), .din({p_blocked, q_wdata[28:24], q_blk, q_wdata[23:0]}), .full(cmd_full),
-        .pop(dispatch), .dout(cmd_head), .empty(cmd_empty), .valid_next(cmd_valid_next),
+        .pop(take), .dout(cmd_head), .empty(cmd_empty), .valid_next(cmd_valid_next),
         .level(cmd_level), .vacant(cmd_vacant)
     );
 
@@ -469,7 +471,7 @@ module twh_core #(
         .dur_fld(t_dur_fld), .poll_sample(c_sample), .poll_error(c_poll_err),
         .cmd_valid(dispatch), .cmd_ch(disp_ch), .cmd_code(h_cmd),
         .cmd_payload(h_payload), .cmd_tag(h_tag), .cmd_skip(h_skip),
-        .cancel(flush_wr), .full(slot_full), .cancelling(e_cancelling),
+        .cmd_ready(e_ready), .cancel(flush_wr), .cancelling(e_cancelling),
         .res_valid(e_res_valid), .res_ready(!res_full), .res(e_res),
         .line_o(line_o), .line_oe(line_oe), .line_i(line_i),
         .status_busy(c_sbusy)
@@ -486,11 +488,9 @@ module twh_core #(
     generate
         for (n = 0; n < 32; n = n + 1) begin : g_pad
             if (n < CHANNELS) begin : g_on
-                assign slot_full8[n]   = slot_full[n];
                 // queued, running, or its result waiting for the result FIFO
                 assign busy8[n]        = c_sbusy[n];
             end else begin : g_off
-                assign slot_full8[n]   = 1'b0;
                 assign busy8[n]        = 1'b0;
             end
         end
@@ -521,7 +521,7 @@ module twh_core #(
     // into the error register. Its result is several clocks behind it still.
     reg disp_blk_err;
     always @(posedge clk) begin
-        disp_blk_err <= !rst && dispatch && disp_blk && !flushing && !flush_wr;
+        disp_blk_err <= !rst && take && disp_blk && !flushing && !flush_wr;
         if (rst) begin
             enable          <= 1'b1;
             idle_charge     <= {CH_N{1'b0}};
@@ -547,7 +547,7 @@ module twh_core #(
             if (q_flush) begin
                 flush_left <= flush_new;
                 flushing   <= flush_new_nz;
-            end else if (dispatch && flushing) begin
+            end else if (take && flushing) begin
                 flush_left <= flush_left - 1'b1;
                 flushing   <= (flush_left != {{(LW-1){1'b0}}, 1'b1});
             end
@@ -868,7 +868,7 @@ module twh_core #(
     // the same clock loses)
     reg f_blk1 = 1'b0, f_blk2 = 1'b0;
     always @(posedge clk) begin
-        f_blk1 <= !rst && dispatch && h_skip == `TWH_ST_BLOCKED;
+        f_blk1 <= !rst && take && h_skip == `TWH_ST_BLOCKED;
         f_blk2 <= !rst && f_blk1;
     end
     always @(posedge clk) begin
@@ -1002,12 +1002,12 @@ module twh_core #(
                           f_st   <= 2'd1;
                           f_word <= {p_blocked, q_wdata[28:24], q_blk, q_wdata[23:0]};
                           f_blk  <= f_factory && !f_armed;
-                          f_pos  <= cmd_level - {{(LW-1){1'b0}}, dispatch};
+                          f_pos  <= cmd_level - {{(LW-1){1'b0}}, take};
                           f_can  <= 1'b0;
                       end
                 2'd1: begin
                           if (f_flush) f_can <= 1'b1;
-                          if (dispatch) begin
+                          if (take) begin
                               if (f_pos == {LW{1'b0}}) f_st <= 2'd2;
                               else                     f_pos <= f_pos - 1'b1;
                               // behind the entries its queue keeps
@@ -1064,11 +1064,12 @@ module twh_core #(
                 if (f_k < f_cf_n)
                     assert({1'b0, f_cf_mem[((f_cf_rd[F_AW-1:0] + f_k) % FIFO_DEPTH)*35 + 24 +: 5]} < CH_COUNT);
 
-            // ---- dispatch: one word out of the FIFO, into the queue of
-            // the channel it names, not full (the engine's proof assumes this)
+            // ---- dispatch: the word offered is the FIFO's head, for an
+            // existing channel, and it stays offered, unchanged, until taken
+            // (below: the engine's proof assumes both)
             if (dispatch)
                 assert(f_cf_ov && disp_ch == cmd_head[28:24] && disp_blk == cmd_head[34] &&
-                       {1'b0, disp_ch} < CH_COUNT && !slot_full8[disp_ch]);
+                       {1'b0, disp_ch} < CH_COUNT);
             // a result's channel exists
             if (e_res_valid) assert({1'b0, e_res[32:28]} < CH_COUNT);
             // a flush counts down only the commands queued before it
@@ -1110,6 +1111,16 @@ module twh_core #(
             end
         end
     end
+
+    // the port's side of the engine (AXI-Stream): an offer not taken stays,
+    // for the same channel (the head and its data with it: above)
+    reg       f_off_q;
+    reg [4:0] f_dch_q;
+    always @(posedge clk) begin
+        f_off_q <= !rst && dispatch && !e_ready;
+        f_dch_q <= disp_ch;
+    end
+    always @(*) if (f_ok && !rst && f_off_q) assert(dispatch && disp_ch == f_dch_q);
 
     // the followed command does reach each ending, and a flush does catch
     // one waiting in its queue

@@ -3,11 +3,12 @@
 // (twh_polls), and what the core's registers read of them. Its command side
 // is a stream into per-channel queues.
 //
-// - Commands: the core's dispatcher pushes the command FIFO's head into its
-//   channel's queue when that queue is not full and the engine's waiting
-//   register is free (`full`), so a command waits behind another channel's
-//   only while four are queued there, or for at most a carrier period
-//   while the one before it waits for its channel's visit.
+// - Commands: the core's dispatcher offers the command FIFO's head
+//   (cmd_valid, held until cmd_ready), and the engine takes it at its
+//   channel's visit when that channel's queue has room, so a command waits
+//   behind another channel's only while four are queued there, or for at
+//   most a carrier period while the one before it waits for its channel's
+//   visit.
 // - Phase lengths: twh_timing fetches, for every channel, the field its next
 //   phase loads (decoded from the engine's `phase`: NX_PHASE) and clamps
 //   it; this module writes each length into the engine's timing RAM. A
@@ -65,8 +66,8 @@ module twh_core_engine #(
     input  wire [15:0]            cmd_payload,
     input  wire [4:0]             cmd_tag,
     input  wire [3:0]             cmd_skip,
+    output wire                   cmd_ready,    // the offered command is taken now
     input  wire                   cancel,
-    output wire [CHANNELS-1:0]    full,
     output wire                   cancelling,   // queued commands a flush cancels are left
     // results for the result FIFO: {tag, channel, status, code, data};
     // res_valid only in a clock with res_ready (the FIFO takes it then)
@@ -96,6 +97,7 @@ module twh_core_engine #(
     wire [CHANNELS*3-1:0]  e_phase;
     // verilator lint_off UNUSEDSIGNAL
     wire [CHANNELS*3-1:0]  e_fld;         // (twh_timing decodes it from the phase)
+    wire [CHANNELS-1:0]    e_full;        // (the engine checks its queue's room itself)
     // verilator lint_on UNUSEDSIGNAL
     wire [CW-1:0]          r_ch;
     wire [7:0]             r_code;
@@ -115,7 +117,7 @@ module twh_core_engine #(
         .m_res_valid(res_valid), .m_res_ready(res_ready), .m_res_ch(r_ch),
         .m_res_code(r_code), .m_res_data(r_data), .m_res_status(r_status), .m_res_tag(r_tag),
         .line_o(line_o), .line_oe(line_oe), .line_i(line_i),
-        .busy(e_busy), .pending(e_pending), .full(full), .cancelling(cancelling),
+        .busy(e_busy), .pending(e_pending), .full(e_full), .cancelling(cancelling),
         .phase(e_phase), .fld(e_fld),
         .p_take(p_take), .p_res(p_res), .p_ch(p_ch), .p_data(p_data), .p_status(p_status),
         .p_count(p_count)
@@ -133,10 +135,9 @@ module twh_core_engine #(
     // verilator lint_on UNUSEDSIGNAL
     assign res = {r_tag, r_ch6[4:0], r_status, r_code, r_data};
 
-    // (the dispatcher names an existing channel, the push checked it, and
-    // pushes only into a queue that is not full: `full`)
+    // (the dispatcher names an existing channel: the push checked it; the
+    // engine checks its queue's room itself, at the visit: `full` unused)
     // verilator lint_off UNUSEDSIGNAL
-    wire       cmd_ready;
     wire [4:0] unused_ch = cmd_ch ^ reg_ch ^ dur_ch ^ sw_ch;
     // verilator lint_on UNUSEDSIGNAL
 

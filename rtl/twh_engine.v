@@ -29,9 +29,10 @@
 //
 // Commands. Each channel has a queue of QDEPTH entries in one RAM (its slice
 // {channel, index}), its pointers in a control word of its own (a second
-// RAM, read a clock before the state word), moved only at its visit: a
-// command the port takes waits in one register for its channel's next
-// visit (at most a carrier period). A command for an idle
+// RAM, read a clock before the state word), moved only at its visit: the
+// port's command is taken at its channel's visit (within a carrier period
+// when its queue has room) and written at the tail then; until it is
+// taken, it waits at the port (held there: AXI-Stream). A command for an idle
 // channel is never held behind one for a busy channel, and each channel
 // keeps its own order. An entry stays at the head of its queue until its
 // result is handed over, so the frame's bytes and the result's code and tag
@@ -101,7 +102,8 @@ module twh_engine #(
     input  wire [CW-1:0]       t_ch,
     input  wire [2:0]          t_fld,
     input  wire [15:0]         t_len,
-    // commands, to the channel's queue
+    // commands, to the channel's queue: taken (s_cmd_ready) at the
+    // channel's visit; held, with s_cmd_ch, until taken
     input  wire                s_cmd_valid,
     output wire                s_cmd_ready,
     input  wire [CW-1:0]       s_cmd_ch,
@@ -127,8 +129,8 @@ module twh_engine #(
     output wire [CHANNELS-1:0] busy,           // a command queued or running, or a
                                                // transaction on the line (a poll's too)
     output wire [CHANNELS-1:0] pending,        // a queued command not started yet
-    output wire [CHANNELS-1:0] full,           // its queue is full, or a taken command
-                                               // waits for its channel's visit
+    output wire [CHANNELS-1:0] full,           // its queue is full (as its last visit
+                                               // left it: the port checks at the visit)
     output wire                cancelling,     // a flush's cancels are still to come
     output wire [CHANNELS*3-1:0] phase,        // each channel's phase as its last visit left it
     output wire [CHANNELS*3-1:0] fld,          // the timing field its next phase loads
@@ -206,7 +208,7 @@ module twh_engine #(
     // (flip-flops; what the core reads of every channel at once, copied
     // from the control word at each visit's write, and a flush's flag)
     reg  [CHANNELS*3-1:0] ph_q;          // each channel's phase, as its last visit wrote it
-    reg  [CN-1:0]        full_m;         // its queue is full (count QDEPTH)
+    reg  [CHANNELS-1:0]  full_m;         // its queue is full (count QDEPTH)
     reg  [CHANNELS-1:0]  busy_m;         // its queue is not empty, or it is not idle
     reg  [CHANNELS-1:0]  pend_m;         // an entry queued and not started
     reg  [CN-1:0]        cz_m;           // a flush's count left
@@ -326,38 +328,25 @@ module twh_engine #(
     // ones the core gives), 31 bits at the core's TAG_W of 5, so two iCE40
     // blocks of 16 bits. The frame's checksum is taken after the read (S2).
     //
-    // A command the port takes waits in one register (`b_*`) for its
-    // channel's next visit, which writes it at the queue's tail (S3) with
-    // the control word, so the queue's pointers are only ever moved by a
-    // visit. The port takes a command while that register is empty and its
-    // channel's queue not full (`full` is either); a flush marks the
-    // waiting command CANCELLED, as it does a queued one.
+    // The port's command is taken at its channel's visit, when the queue
+    // has room, and written at the queue's tail in that clock (S2), with
+    // the control word's step; until then it waits at the port (the core's
+    // command FIFO holds it at its head; s_cmd_ch holds while s_cmd_valid
+    // and not taken, as AXI-Stream has it). So the queue's pointers are
+    // only ever moved by a visit, and no register here holds a command:
+    // whether the visit takes it is decided at S1 (s2_take: the channel
+    // and the queue's count), and the port's ready is that flip-flop.
     localparam integer QE = 8 + 16 + TAG_W + 2;
     localparam [1:0] SK_NONE = 2'd0, SK_BLOCKED = 2'd1, SK_CANCELLED = 2'd2;
     wire [QE-1:0] q_rd;
-    wire          push = s_cmd_valid && s_cmd_ready;
     wire [1:0]    push_sk = (s_cmd_skip == `TWH_ST_CANCELLED) ? SK_CANCELLED :
                             (s_cmd_skip == `TWH_ST_BLOCKED)   ? SK_BLOCKED : SK_NONE;
-    reg           b_v;
-    reg  [CW-1:0] b_ch;
-    reg  [QE-1:0] b_e;
-    reg           s3_ins;       // the visit writes the waiting command ...
-    reg  [QW-1:0] s3_tl;        // ... at this entry
-    always @(posedge clk) begin
-        if (rst) begin
-            b_v <= 1'b0;
-        end else begin
-            if (s3_v && s3_ins) b_v <= 1'b0;
-            if (push)           b_v <= 1'b1;
-        end
-        if (push) begin
-            b_ch <= s_cmd_ch;
-            b_e  <= {s_cmd_code, s_cmd_code[7] ? s_cmd_payload[15:8] : 8'd0, s_cmd_payload[7:0],
-                     s_cmd_tag, push_sk};
-        end else if (cancel) begin
-            b_e[1:0] <= SK_CANCELLED;
-        end
-    end
+    wire [QE-1:0] p_e = {s_cmd_code, s_cmd_code[7] ? s_cmd_payload[15:8] : 8'd0, s_cmd_payload[7:0],
+                         s_cmd_tag, push_sk};
+    reg           s2_take;      // the visit at S2 takes the port's command ...
+    wire          ins;          // ... and it is there: written at the tail
+    wire [QW-1:0] ins_tl;       // ... at this entry
+    reg           s3_ins;       // (the write a clock on: the copies the core reads)
 `ifdef FORMAL
     wire [QW-1:0] f_qi;         // the tracked channel's tracked entry (below)
     wire [QE-1:0] f_qm;         // ... as the queue RAM holds it
@@ -365,13 +354,13 @@ module twh_engine #(
     wire [15:0]   f_tm;         // ... as the timing RAM holds it
 `endif
     twh_ram #(.W(QE), .AW(CW + QW), .BLOCK(RAM_BLOCK)) u_queue (
-        .clk(clk), .we(s3_v && s3_ins), .waddr({s3_ch, s3_tl}), .wdata(b_e),
+        .clk(clk), .we(ins), .waddr({s2_ch, ins_tl}), .wdata(p_e),
         .raddr({s0_ch, c0[C_HD +: QW]}), .rdata(q_rd)
 `ifdef FORMAL
         , .f_addr({f_ch, f_qi}), .f_data(f_qm)
 `endif
     );
-    assign s_cmd_ready = !b_v && !full_m[s_cmd_ch];
+    assign s_cmd_ready = s2_take;
 
     // The timing RAM is read a clock later than the state word (S1, from the
     // registered control word), so its own output register is the length's
@@ -468,6 +457,8 @@ module twh_engine #(
         // (the enable a clock ahead too: a flip-flop of the step's own,
         // off CTRL's fan-out, which was the UP5K's critical path)
         s2_en   <= enable;
+        // the port's command is for this channel, whose queue has room
+        s2_take <= !rst && s1_v && s_cmd_valid && (s_cmd_ch == s1_ch) && !s1_c[C_CN + QW];
         s2_ccnt <= c1_cc;
         s2_cc   <= c1_cc != {(QW+1){1'b0}};
     end
@@ -629,12 +620,13 @@ module twh_engine #(
         endcase
     end
 
-    // the control word's step: the waiting command written at the tail
+    // the control word's step: the port's command written at the tail
     // (its channel's visit), the head popped with its result handed over,
     // the head started, the poll's turn, the flush's count
-    wire          ins = b_v && (b_ch == s2_ch);
+    assign        ins = s2_take && s_cmd_valid;
     wire [QW-1:0] c2_hd = s2_c[C_HD +: QW];
     wire [QW-1:0] c2_tl = s2_c[C_TL +: QW];
+    assign        ins_tl = c2_tl;
     wire [QW:0]   c2_cn = s2_c[C_CN +: QW+1];
     reg  [CTW-1:0] cn_w;
     always @(*) begin
@@ -671,7 +663,6 @@ module twh_engine #(
         s3_word   <= wn;
         s3_ctl    <= cn_w;
         s3_ins    <= ins;
-        s3_tl     <= c2_tl;
         s3_last   <= last;
         s3_q      <= {f_code, f_pmsb, f_plsb, f_chk};
         s3_ich    <= |(cfg_idle_charge & at2);
@@ -736,7 +727,9 @@ module twh_engine #(
             if (n < CHANNELS) begin : g_on
                 wire at_s3 = sc[n+3];
                 wire at_s1 = sc[n+1];
-                wire b_n   = b_v && (b_ch == n);     // its command waits for the visit
+                // its visit takes a command now, or took one a clock ago
+                // (the copies below take it in at the end of this clock)
+                wire i_n   = (sc[n+2] && ins) || (at_s3 && s3_ins);
                 always @(posedge clk) begin
                     if (rst) begin
                         ph_q[n*3 +: 3] <= `TWH_PH_IDLE;
@@ -755,10 +748,9 @@ module twh_engine #(
                         end
                         // (S1 takes the flag, and a flush in its own clock;
                         // a channel with nothing queued and not started, and
-                        // no command waiting for its visit, has nothing
-                        // to cancel: no flag, so FLUSHING shows only
-                        // cancels to come)
-                        fpend[n] <= !at_s1 && (fpend[n] || (cancel && (pend_m[n] || b_n)));
+                        // no command going in, has nothing to cancel: no
+                        // flag, so FLUSHING shows only cancels to come)
+                        fpend[n] <= !at_s1 && (fpend[n] || (cancel && (pend_m[n] || i_n)));
                     end
                 end
                 twh_engine_pin #(.CLK_HZ(CLK_HZ), .GLITCH_NS(GLITCH_NS)) u_pin (
@@ -769,16 +761,14 @@ module twh_engine #(
                 );
                 assign pin_vis[n] = sc[n];
                 assign pin_we[n]  = sc[n+4];
-                assign busy[n]    = busy_m[n] || b_n;
-                assign pending[n] = pend_m[n] || b_n;
-                assign full[n]    = full_m[n] || b_v;
+                assign busy[n]    = busy_m[n] || i_n;
+                assign pending[n] = pend_m[n] || i_n;
+                assign full[n]    = full_m[n];
                 assign phase[n*3 +: 3] = ph_q[n*3 +: 3];
                 assign fld[n*3 +: 3] = fld_of(ph_q[n*3 +: 3]);
             end else begin : g_off
-                // indices past the last channel (CHANNELS not a power of two):
-                // full, so no command is taken for one
+                // indices past the last channel (CHANNELS not a power of two)
                 always @(posedge clk) begin
-                    full_m[n]      <= 1'b1;
                     cz_m[n]        <= 1'b0;
                     fpend[n]       <= 1'b0;
                 end
@@ -979,9 +969,8 @@ module twh_engine #(
             // pop never finds the queue empty: one result per command)
             assert(f_qcnt <= QDEPTH[QW:0]);
             assert(f_qcnt[QW-1:0] == f_tail - f_head);
-            // a command waiting for its channel's visit has room there
-            if (b_v) assert(b_ch < CHANNELS);
-            if (b_v && b_ch == f_ch) assert(!f_qcnt[QW]);
+            // a command taken at S2 has room in its channel's queue
+            if (s2_v && s2_take && s2_ch == f_ch) assert(!f_qcnt[QW]);
             // (a result handed over in the turnaround has popped its entry;
             // a poll has none): the head is started exactly while its
             // transaction runs or its result waits, and a flush's count
@@ -1073,17 +1062,21 @@ module twh_engine #(
     always @(*) if (f_ok && !rst && m_res_valid) assert(m_res_ready && s2_v && w[19]);
     reg f_past = 1'b0;
     always @(posedge clk) f_past <= f_ok && !rst;
-    always @(posedge clk) begin
-        // a flush marks a command still waiting for its visit CANCELLED
-        if (f_past && f_ok && !rst && $past(cancel && b_v && !rst) && b_v)
-            assert(b_e[1:0] == SK_CANCELLED);
-    end
+    // the port's side (AXI-Stream): a command offered and not taken stays
+    // offered, for the same channel (the core's twh_core:eng* prove it)
+    always @(posedge clk)
+        if (f_past && !rst && $past(s_cmd_valid && !s_cmd_ready && !rst))
+            assume(s_cmd_valid && s_cmd_ch == $past(s_cmd_ch));
+    always @(*) if (s_cmd_valid) assume(s_cmd_ch < CHANNELS);
+    // what S1 decided holds at S2: the command is still offered, for the
+    // channel visited
+    always @(*) if (f_ok && !rst && s2_take) assert(s2_v && s_cmd_valid && s_cmd_ch == s2_ch);
 
     // What each command's result carries. The queue entry followed is the
     // tracked channel's entry f_qi (any), as its RAM word holds it (f_qm):
     // - a command taken is the entry written: code, payload (its high
     //   byte 0 in a 3-byte command), tag and skip as the port gave them
-    //   (a flush may turn the skip to CANCELLED while it waits);
+    //   in the clock it was taken;
     // - the entry read at the head is the RAM's word, and a result handed
     //   over for it carries its code and tag;
     // - its status: CANCELLED for an entry taken CANCELLED; BLOCKED or
@@ -1104,17 +1097,17 @@ module twh_engine #(
     wire              f_run     = !f_cur[PL] && f_ph != `TWH_PH_IDLE && f_ph != `TWH_PH_TURNAROUND;
     always @(posedge clk) begin
         if (f_past && f_ok && !rst) begin
-            if ($past(push))
-                assert(b_v && b_ch == $past(s_cmd_ch) &&
-                       b_e == {$past(s_cmd_code),
-                               $past(s_cmd_code[7]) ? $past(s_cmd_payload[15:8]) : 8'd0,
-                               $past(s_cmd_payload[7:0]), $past(s_cmd_tag), $past(push_sk)});
-            else if ($past(b_v) && b_v)
-                assert(b_e[QE-1:2] == $past(b_e[QE-1:2]) &&
-                       (b_e[1:0] == $past(b_e[1:0]) || b_e[1:0] == SK_CANCELLED));
-            // the waiting command goes into the tracked entry unchanged
-            if ($past(s3_v && s3_ins && s3_ch == f_ch && s3_tl == f_qi))
-                assert(f_qm == $past(b_e));
+            // the command taken goes into the tracked entry as the port
+            // gave it, in the clock it is taken (ready and valid)
+            if ($past(s_cmd_valid && s_cmd_ready && s2_ch == f_ch && c2_tl == f_qi))
+                assert(f_qm == {$past(s_cmd_code),
+                                $past(s_cmd_code[7]) ? $past(s_cmd_payload[15:8]) : 8'd0,
+                                $past(s_cmd_payload[7:0]), $past(s_cmd_tag), $past(push_sk)});
+            // it is taken only at its own channel's visit
+            if ($past(s_cmd_valid && s_cmd_ready)) assert($past(s2_v && s2_ch == s_cmd_ch));
+            // and shows as busy and pending in the clock after, before the
+            // copies take it in (from then on they show it: above)
+            if ($past(ins && s2_ch == f_ch)) assert(busy[f_ch] && pending[f_ch]);
         end
     end
     always @(*) begin
@@ -1138,7 +1131,6 @@ module twh_engine #(
         if (f_ok && !rst) begin
             // skips are none, BLOCKED or CANCELLED (two bits, never 3)
             if (f_qin) assert(f_qm_sk != 2'd3);
-            if (b_v) assert(b_e[1:0] != 2'd3);
             // the head entry read is the RAM's word
             if (s2_v && s2_ch == f_ch && s2_c[C_HD +: QW] == f_qi && f_qcnt != {(QW+1){1'b0}})
                 assert(s2_q == f_qm);
