@@ -251,6 +251,10 @@ module twh_engine #(
     wire [CHANNELS-1:0] at2 = sc[CHANNELS+1:2];
 
     // the timing field the phase after `p` loads (twh_defs.vh)
+    function [2:0] fld_of;
+        input [2:0] p;
+        fld_of = `TWH_FLD_OF(p);
+    endfunction
     // a field's default length (twh_timing's codes: 1 charge .. 6 turnaround)
     function [15:0] fixed_len;
         input [2:0] f;
@@ -262,10 +266,6 @@ module twh_engine #(
             3'd5:    fixed_len = `TWH_LISTEN_DEF;
             default: fixed_len = `TWH_TURNAROUND_DEF;
         endcase
-    endfunction
-    function [2:0] fld_of;
-        input [2:0] p;
-        fld_of = `TWH_FLD_OF(p);
     endfunction
 
     // ------------------------------------------------------------ RAMs
