@@ -45,6 +45,12 @@
 `define TWH_EXECUTE_DEF     16'd4000
 `define TWH_LISTEN_DEF      16'd3000
 `define TWH_TURNAROUND_DEF  16'd2000
+// ... by timing field (twh_timing's codes: 1 charge .. 6 turnaround), what a
+// build with fixed timing runs (twh_timing's fetch, twh_engine's FIXED_TIMING)
+`define TWH_FLD_DEF(f) \
+    (((f) == 3'd1) ? `TWH_CHARGE_DEF : ((f) == 3'd2) ? `TWH_SYNC_DEF : \
+     ((f) == 3'd3) ? `TWH_PREAMBLE_DEF : ((f) == 3'd4) ? `TWH_EXECUTE_DEF : \
+     ((f) == 3'd5) ? `TWH_LISTEN_DEF : `TWH_TURNAROUND_DEF)
 
 // Register interface (rdl/twh_regs.rdl is the description)
 // The time-shared engine's clock floor (docs/engine.md): P = CLK_HZ / 1 MHz

@@ -255,17 +255,10 @@ module twh_engine #(
         input [2:0] p;
         fld_of = `TWH_FLD_OF(p);
     endfunction
-    // a field's default length (twh_timing's codes: 1 charge .. 6 turnaround)
+    // a field's default length (twh_defs.vh)
     function [15:0] fixed_len;
         input [2:0] f;
-        case (f)
-            3'd1:    fixed_len = `TWH_CHARGE_DEF;
-            3'd2:    fixed_len = `TWH_SYNC_DEF;
-            3'd3:    fixed_len = `TWH_PREAMBLE_DEF;
-            3'd4:    fixed_len = `TWH_EXECUTE_DEF;
-            3'd5:    fixed_len = `TWH_LISTEN_DEF;
-            default: fixed_len = `TWH_TURNAROUND_DEF;
-        endcase
+        fixed_len = `TWH_FLD_DEF(f);
     endfunction
 
     // ------------------------------------------------------------ RAMs

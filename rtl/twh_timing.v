@@ -155,8 +155,11 @@ module twh_timing #(
     reg  [4:0] f_ch;
     wire [2:0] f_nx  = nx_fld[f_ch*3 +: 3];
     wire [2:0] f_fld = (NX_PHASE != 0) ? `TWH_FLD_OF(f_nx) : f_nx;
-    // fields 1-2 are TIMING0's, 3-4 TIMING1's, 5-6 TIMING2's
+    // fields 1-2 are TIMING0's, 3-4 TIMING1's, 5-6 TIMING2's (the memory's
+    // read of a programmable build; with PROG = 0 only the proof reads it)
+    // verilator lint_off UNUSEDSIGNAL
     wire [1:0] f_reg = (f_fld <= 3'd2) ? 2'd0 : (f_fld <= 3'd4) ? 2'd1 : 2'd2;
+    // verilator lint_on UNUSEDSIGNAL
     // The read address: above one channel a register of the field named
     // (the channel multiplexer and the field decode are then off the path
     // into the memory: ECP5's LUT RAM reads asynchronously, and that path
@@ -241,7 +244,6 @@ module twh_timing #(
             default: begin w_lo = `TWH_TURNAROUND_MIN; w_hi = `TWH_US_MAX;       end
         endcase
     end
-    wire [31:0] fx_word = def_word(f_reg);
     always @(*) begin
         if (PROG != 0) begin
             dur_we  = p_we;
@@ -254,7 +256,7 @@ module twh_timing #(
             dur_we  = ONE << f_ch;
             dur_v   = 1'b1;
             dur_ch  = f_ch;
-            dur     = (f_fld == 3'd2 || f_fld == 3'd4 || f_fld == 3'd6) ? fx_word[31:16] : fx_word[15:0];
+            dur     = `TWH_FLD_DEF(f_fld);
             dur_fld = f_fld;
         end
     end
