@@ -97,7 +97,6 @@ module twh_core_engine #(
     wire [CHANNELS*3-1:0]  e_phase;
     // verilator lint_off UNUSEDSIGNAL
     wire [CHANNELS*3-1:0]  e_fld;         // (twh_timing decodes it from the phase)
-    wire [CHANNELS-1:0]    e_full;        // (the engine checks its queue's room itself)
     // verilator lint_on UNUSEDSIGNAL
     wire [CW-1:0]          r_ch;
     wire [7:0]             r_code;
@@ -117,7 +116,7 @@ module twh_core_engine #(
         .m_res_valid(res_valid), .m_res_ready(res_ready), .m_res_ch(r_ch),
         .m_res_code(r_code), .m_res_data(r_data), .m_res_status(r_status), .m_res_tag(r_tag),
         .line_o(line_o), .line_oe(line_oe), .line_i(line_i),
-        .busy(e_busy), .pending(e_pending), .full(e_full), .cancelling(cancelling),
+        .busy(e_busy), .pending(e_pending), .cancelling(cancelling),
         .phase(e_phase), .fld(e_fld),
         .p_take(p_take), .p_res(p_res), .p_ch(p_ch), .p_data(p_data), .p_status(p_status),
         .p_count(p_count)

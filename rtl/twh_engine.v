@@ -5,7 +5,7 @@
 // flip-flops: the pin logic (twh_engine_pin: synchroniser, glitch filter,
 // the window flags, the drive for the next period), a flush's flag, and
 // copies of what the core reads of every channel at once (phase, queue
-// full / not empty / holding an unstarted entry, a flush's count left).
+// not empty / holding an unstarted entry, a flush's count left).
 //
 // The scan. The carrier's tick starts a scan: channel c is read (S0) in the
 // (c+1)th clock after the tick, its word and operands come out of the RAMs
@@ -129,8 +129,6 @@ module twh_engine #(
     output wire [CHANNELS-1:0] busy,           // a command queued or running, or a
                                                // transaction on the line (a poll's too)
     output wire [CHANNELS-1:0] pending,        // a queued command not started yet
-    output wire [CHANNELS-1:0] full,           // its queue is full (as its last visit
-                                               // left it: the port checks at the visit)
     output wire                cancelling,     // a flush's cancels are still to come
     output wire [CHANNELS*3-1:0] phase,        // each channel's phase as its last visit left it
     output wire [CHANNELS*3-1:0] fld,          // the timing field its next phase loads
@@ -208,7 +206,6 @@ module twh_engine #(
     // (flip-flops; what the core reads of every channel at once, copied
     // from the control word at each visit's write, and a flush's flag)
     reg  [CHANNELS*3-1:0] ph_q;          // each channel's phase, as its last visit wrote it
-    reg  [CHANNELS-1:0]  full_m;         // its queue is full (count QDEPTH)
     reg  [CHANNELS-1:0]  busy_m;         // its queue is not empty, or it is not idle
     reg  [CHANNELS-1:0]  pend_m;         // an entry queued and not started
     reg  [CN-1:0]        cz_m;           // a flush's count left
@@ -708,7 +705,6 @@ module twh_engine #(
                         (s2_v && s2_cc) || (s3_v && s3_cc);
 
     // ------------------------------------------------------------ per channel
-    wire s3_full = s3_ctl[C_CN + QW];
     wire s3_busy = (s3_ctl[C_CN +: QW+1] != {(QW+1){1'b0}}) || (s3_word[2:0] != `TWH_PH_IDLE);
     wire s3_pend = s3_ctl[C_CN +: QW+1] != {{QW{1'b0}}, s3_ctl[C_AC]};
     // each pin samples its window flag at its channel's S0 and takes the
@@ -726,7 +722,6 @@ module twh_engine #(
                 always @(posedge clk) begin
                     if (rst) begin
                         ph_q[n*3 +: 3] <= `TWH_PH_IDLE;
-                        full_m[n]      <= 1'b0;
                         busy_m[n]      <= 1'b0;
                         pend_m[n]      <= 1'b0;
                         cz_m[n]        <= 1'b0;
@@ -734,7 +729,6 @@ module twh_engine #(
                     end else begin
                         if (at_s3) begin
                             ph_q[n*3 +: 3] <= s3_word[2:0];
-                            full_m[n]      <= s3_full;
                             busy_m[n]      <= s3_busy;
                             pend_m[n]      <= s3_pend;
                             cz_m[n]        <= s3_cc;
@@ -756,7 +750,6 @@ module twh_engine #(
                 assign pin_we[n]  = sc[n+4];
                 assign busy[n]    = busy_m[n] || i_n;
                 assign pending[n] = pend_m[n] || i_n;
-                assign full[n]    = full_m[n];
                 assign phase[n*3 +: 3] = ph_q[n*3 +: 3];
                 assign fld[n*3 +: 3] = fld_of(ph_q[n*3 +: 3]);
             end else begin : g_off
@@ -950,8 +943,7 @@ module twh_engine #(
             if (s1_v && s1_ch == f_ch) assert(s1_c == f_cc);
             if (s2_v && s2_ch == f_ch) assert(s2_c == f_cc);
             assert(f_cc[C_PH +: 3] == f_ph);
-            assert(full_m[f_ch] == f_qcnt[QW] &&
-                   busy_m[f_ch] == (f_qcnt != {(QW+1){1'b0}} || f_ph != `TWH_PH_IDLE) &&
+            assert(busy_m[f_ch] == (f_qcnt != {(QW+1){1'b0}} || f_ph != `TWH_PH_IDLE) &&
                    pend_m[f_ch] == (f_qcnt != {{QW{1'b0}}, f_act}) &&
                    cz_m[f_ch] == (f_ccnt != {(QW+1){1'b0}}));
             // the timing field is the one the phase's successor loads

@@ -54,7 +54,7 @@ module twh_engine_bench #(
         .m_res_valid(rv), .m_res_ready(sr[SW-1]), .m_res_ch(rch), .m_res_code(rcode),
         .m_res_data(rdata), .m_res_status(rst_s), .m_res_tag(rtag),
         .line_o(line_o), .line_oe(line_oe), .line_i(line_i), .busy(busy),
-        .phase(phase), .pending(pending), .full(), .cancelling(), .fld(),
+        .phase(phase), .pending(pending), .cancelling(), .fld(),
         .p_take(p_take), .p_res(p_res), .p_ch(p_ch), .p_data(p_data), .p_status(p_status), .p_count(p_count)
     );
     // every output registered before the fold, so the fold's XOR tree is
