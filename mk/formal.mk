@@ -13,7 +13,7 @@
 # the longest first (the time-shared engine's, then the core's), so that
 # with two at a time the short ones fill in beside them at the end
 FORMAL_JOBS ?= \
-    twh_engine:ch2 twh_engine:ch3 twh_engine:ch1 twh_engine:fix2 \
+    twh_engine:ch2 twh_engine:ch3 twh_engine:ch1 twh_engine:fix2 twh_engine:lean2 \
     twh_core:eng1 twh_core:eng2 twh_core:cover_eng2 twh_core:port \
     twh_polls:ch2 twh_polls:ch3 twh_polls:cover3 \
     twh_sync2:prove twh_window:prove \

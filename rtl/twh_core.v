@@ -46,9 +46,9 @@ module twh_core #(
     // channel's state in RAM, a queue of four commands a channel behind the
     // command FIFO. 1 keeps the engine's memories (state, queues, phase
     // lengths) in block RAM on every part, as the iCE40s need (no LUT RAM:
-    // a shallow memory would become flip-flops); 0 leaves the choice to
-    // synthesis, which on the ECP5 takes LUT RAM while they are shallow,
-    // whose read is faster (docs/integration.md, "Parameters")
+    // a shallow memory would become flip-flops); 0 asks for LUT RAM at
+    // every depth, for parts that have it (the ECP5: faster to read than
+    // its block RAM; docs/integration.md, "Parameters")
     parameter integer RAM_BLOCK   = 1
 ) (
     input  wire                clk,
@@ -99,6 +99,8 @@ module twh_core #(
 
     localparam integer LW = $clog2(DEPTH_N + 1);
     localparam [5:0]  CH_COUNT = CHANNELS[5:0];
+    localparam integer CH_END_I = CHANNELS + 4;
+    localparam [5:0]  CH_END   = CH_END_I[5:0];     // the first block past the channels'
     localparam [11:0] DEPTH12  = FIFO_DEPTH[11:0];
     localparam integer CLK_KHZ_I = CLK_HZ / 1000;
     localparam [19:0] CLK_KHZ  = CLK_KHZ_I[19:0];
@@ -173,8 +175,11 @@ module twh_core #(
                      R_FACTORY_KEY = 5'd14, R_IDLE_CHARGE = 5'd15, R_BUSY = 5'd16;
     localparam [2:0] C_CMD_PUSH = 3'd6;         // a channel block's CMD_PUSH
     wire       i_is_ch  = (reg_addr[10:7] != 4'd0);
-    wire [5:0] i_blk    = reg_addr[10:5] - 6'd4;
-    wire       i_ch_ok  = i_is_ch && (i_blk < CH_COUNT);
+    wire [4:0] i_blk    = reg_addr[9:5] - 5'd4;    // the channel block (the register stage's)
+    // (the checks compare the block's address with constants, not the
+    // subtraction's result: a carry chain into a compare was the UP5K's
+    // path into the request stage)
+    wire       i_ch_ok  = i_is_ch && (reg_addr[10:5] < CH_END);
     wire [4:0] i_g      = reg_addr[6:2];
     // a full-word write, a read, a read of a global register: of the
     // request on the port, when there is one (the strobes below)
@@ -183,7 +188,7 @@ module twh_core #(
     wire       i_grd    = !reg_we && !i_is_ch;
     // a CMD_PUSH write in the channel array (CH[0] to CH[31]), the channel
     // present or not (an absent one's is BAD_CHANNEL)
-    wire       i_push   = i_wr && i_is_ch && !i_blk[5] && reg_addr[4:2] == C_CMD_PUSH;
+    wire       i_push   = i_wr && i_is_ch && (reg_addr[10:5] < 6'd36) && reg_addr[4:2] == C_CMD_PUSH;
     // The request's data loads only around a request (this one, or the
     // clock after one); between requests its strobes are 0 and the data is
     // unused. Icarus runs every clocked block on every clock, and the idle
@@ -228,7 +233,7 @@ module twh_core #(
         q_we       <= reg_we;
         q_full     <= (reg_wstrb == 4'hF);
         q_addr     <= reg_addr;
-        q_blk      <= i_blk[4:0];
+        q_blk      <= i_blk;
         q_wdata    <= reg_wdata;
         q_cmp      <= i_cmp;
         q_cmp_nz   <= (i_cmp != 4'd0);

@@ -106,7 +106,7 @@ module twh_core_engine #(
     // (its clock floor is the core's twh_carrier's to check)
     twh_engine #(.CLK_HZ(CLK_HZ), .CHANNELS(CHANNELS), .TAG_W(5), .QDEPTH(4),
                  .CHECK_FLOOR(0), .RAM_BLOCK(RAM_BLOCK),
-                 .FIXED_TIMING(PROG_TIMING != 0 ? 0 : 1)) u_engine (
+                 .FIXED_TIMING(PROG_TIMING != 0 ? 0 : 1), .POLLING(POLLING)) u_engine (
         .clk(clk), .rst(rst), .tick(tick), .fall(fall), .cfg_idle_charge(idle_charge),
         .enable(enable), .cancel(cancel), .poll_req(p_due), .poll_cmd(p_cmd), .scan_ch(scan_ch),
         .t_we(dur_v), .t_ch(t_ch), .t_fld(dur_fld), .t_len(dur),

@@ -81,6 +81,10 @@ module twh_engine #(
     // PROG_TIMING = 0): no timing RAM, t_* unused, the length a decode of
     // the field registered where the RAM's output register would be
     parameter integer FIXED_TIMING = 0,
+    // 0: no poller (the core's POLLING = 0): poll_req and poll_cmd unused,
+    // and the word's poll fields (PL, CT) are 0, so the step has no poll
+    // frame, no poll checksum and no poll count
+    parameter integer POLLING = 1,
     // derived, not to be set
     parameter integer CW        = (CHANNELS > 1) ? $clog2(CHANNELS) : 1
 ) (
@@ -183,6 +187,10 @@ module twh_engine #(
     localparam integer UW = `TWH_RX_W;   // the union's width: the receiver's word
     localparam integer RS = U0 + 16;     // 4: the waiting result's status (data in U[15:0])
     localparam [W-1:0] W_RESET = {{(W-19){1'b0}}, `TWH_TURNAROUND_MIN + 16'd1, `TWH_PH_IDLE};
+    // the bits a build without polls keeps 0 (PL, CT): masked as the word
+    // is read, so synthesis drops what would step them
+    localparam [W-1:0] W_POLL = ({{(W-1){1'b0}}, 1'b1} << PL) | ({{(W-12){1'b0}}, 12'hFFF} << CT);
+    localparam [W-1:0] W_KEEP = (POLLING != 0) ? {W{1'b1}} : ~W_POLL;
 
     // ------------------------------------------------------------ control word
     // Each channel's queue pointers and flags, a word of its own in block
@@ -261,7 +269,6 @@ module twh_engine #(
     // ------------------------------------------------------------ RAMs
     reg           s1_v, s1_init, s1_env;
     reg [CW-1:0]  s1_ch;
-    reg [CTW-1:0] s1_c;
     assign scan_ch = s1_ch;
     wire [W-1:0]  st_rd;
     reg  [W-1:0]  s3_word;
@@ -272,19 +279,16 @@ module twh_engine #(
         .raddr(s0_ch), .rdata(st_rd)
     );
 
-    // The control word is read a clock ahead of S0 (`pre`: the channel S0
-    // takes next) and written with the state word at S3. At P = 4 a
-    // channel's write and its next read are in the same clock, so the read
-    // takes the word being written (`s0_fwd`); a longer period leaves a
-    // clock between them.
-    localparam integer FWD = (FRAC == 0 && P < 5) ? 1 : 0;
-    wire          pre_v  = tick || (s0_v && s0_ch != LAST_CH);
-    wire [CW-1:0] pre_ch = tick ? {CW{1'b0}} : s0_ch + 1'b1;
+    // The control word is read with the state word (S0) and written with
+    // it at S3; its RAM's own register is S1's (`c_rd`), so the queue's and
+    // the timing RAM's reads at S1 take their addresses from it, and no
+    // flip-flop copy of it stands between S1 and S2's. (A channel's write
+    // and its next read are P - 3 >= 1 clocks apart.)
     wire [CTW-1:0] c_rd;
     reg  [CTW-1:0] s3_ctl;
     twh_ram #(.W(CTW), .AW(CW), .BLOCK(RAM_BLOCK)) u_ctl (
         .clk(clk), .we(s3_v), .waddr(s3_ch), .wdata(s3_ctl),
-        .raddr(pre_ch), .rdata(c_rd)
+        .raddr(s0_ch), .rdata(c_rd)
     );
     // Reset needs no flag a channel: every scan visits and writes every
     // channel, so a channel's words are its own from the second scan after
@@ -301,17 +305,11 @@ module twh_engine #(
             run2 <= run1;
         end
     end
+    // (of the channel S0 takes next: the first channel's S0 is the tick's
+    // next clock)
     wire           pre_init = tick ? run1 : run2;
-    reg            s0_init, s0_fwd;
-    reg  [CTW-1:0] s0_fv;
-    always @(posedge clk) begin
-        s0_init <= pre_init;
-        s0_fwd  <= (FWD != 0) && pre_v && s3_v && (s3_ch == pre_ch);
-        s0_fv   <= s3_ctl;
-    end
-    // the channel's control word as its last visit wrote it (the reset
-    // word in the first scan after a reset)
-    wire [CTW-1:0] c0 = s0_fwd ? s0_fv : s0_init ? c_rd : CTL_RESET;
+    reg            s0_init;
+    always @(posedge clk) s0_init <= pre_init;
 
     // An entry: code, payload (its high byte 0 in a 3-byte command), tag
     // and the skip code in two bits (none, BLOCKED, CANCELLED: the only
@@ -345,7 +343,7 @@ module twh_engine #(
 `endif
     twh_ram #(.W(QE), .AW(CW + QW), .BLOCK(RAM_BLOCK)) u_queue (
         .clk(clk), .we(ins), .waddr({s2_ch, ins_tl}), .wdata(p_e),
-        .raddr({s0_ch, c0[C_HD +: QW]}), .rdata(q_rd)
+        .raddr({s1_ch, c_rd[C_HD +: QW]}), .rdata(q_rd)
 `ifdef FORMAL
         , .f_addr({f_ch, f_qi}), .f_data(f_qm)
 `endif
@@ -362,7 +360,7 @@ module twh_engine #(
         if (FIXED_TIMING == 0) begin : g_tram
             twh_ram #(.W(16), .AW(CW + 3), .BLOCK(RAM_BLOCK)) u_timing (
                 .clk(clk), .we(t_we), .waddr({t_ch, t_fld}), .wdata(t_len),
-                .raddr({s1_ch, fld_of(s1_c[C_PH +: 3])}), .rdata(t_rd)
+                .raddr({s1_ch, fld_of(c_rd[C_PH +: 3])}), .rdata(t_rd)
 `ifdef FORMAL
                 , .f_addr({f_ch, f_tf}), .f_data(f_tm)
 `endif
@@ -371,7 +369,7 @@ module twh_engine #(
             // the defaults lie in their windows: what twh_timing would hand
             // over with PROG = 0 (a block RAM fewer, and no fetch to feed it)
             reg [15:0] t_fx;
-            always @(posedge clk) t_fx <= fixed_len(fld_of(s1_c[C_PH +: 3]));
+            always @(posedge clk) t_fx <= fixed_len(fld_of(c_rd[C_PH +: 3]));
             assign t_rd = t_fx;
 `ifdef FORMAL
             assign f_tm = fixed_len(f_tf);
@@ -386,19 +384,26 @@ module twh_engine #(
     always @(posedge clk) begin
         s1_v    <= !rst && s0_v;
         s1_ch   <= s0_ch;
-        s1_init <= s0_init || s0_fwd;
+        s1_init <= s0_init;
         s1_env  <= |(seen & at0);
-        s1_c    <= c0;
     end
+    // The channel's control word as its last visit wrote it is the RAM's
+    // (c_rd), or the reset word (empty queue, no cancels, idle) in the
+    // first scan after a reset: what S1 decides from it takes s1_init in,
+    // and S2's copy is reset to it (a flip-flop's reset, not a LUT). The
+    // queue's and the timing RAM's read addresses take the RAM's word as
+    // it is: in the first scan the step uses neither the head, the queue
+    // being empty, nor the length, the reset word's idle having periods
+    // left.
     // a flush since the channel's last visit (or in this clock) cancels
     // what its queue holds and has not started; else the count left stands
-    wire [QW:0]   c1_cnt = s1_c[C_CN +: QW+1];
-    wire [QW:0]   c1_cc  = (|(fpend[CHANNELS-1:0] & at1) || cancel) ? c1_cnt - {{QW{1'b0}}, s1_c[C_AC]}
-                                                    : s1_c[C_CC +: QW+1];
+    wire [QW:0]   c1_cnt = c_rd[C_CN +: QW+1];
+    wire [QW:0]   c1_cc  = (|(fpend[CHANNELS-1:0] & at1) || cancel) ? c1_cnt - {{QW{1'b0}}, c_rd[C_AC]}
+                                                    : c_rd[C_CC +: QW+1];
     reg           s2_v, s2_env, s2_ne, s2_last;
     // the word as read, or the state after reset for a channel not yet
     // visited since: idle, the minimum turnaround (and one) before a charge
-    wire [W-1:0]  w1 = s1_init ? st_rd : W_RESET;
+    wire [W-1:0]  w1 = (s1_init ? st_rd : W_RESET) & W_KEEP;
     // the receiver's decodes and the answer's verdict, a clock ahead of
     // the step (off its path); only a word in listen uses them, and that
     // word is always the RAM's (the reset word is idle)
@@ -414,7 +419,7 @@ module twh_engine #(
     reg           s2_ok;
     reg [CW-1:0]  s2_ch;
     reg [W-1:0]   s2_w;
-    reg [QE-1:0]  s2_q;
+    wire [QE-1:0] s2_q = q_rd;    // (the queue RAM's register: read at S1)
     wire [15:0]   s2_len = t_rd;    // (the timing RAM's register: read at S1)
     reg           s2_pr, s2_cc;
     reg           s2_en;          // `enable`, taken at S1
@@ -424,8 +429,8 @@ module twh_engine #(
         s2_v    <= !rst && s1_v;
         s2_ch   <= s1_ch;
         s2_env  <= s1_env;
-        s2_ne   <= c1_cnt != {(QW+1){1'b0}};
-        s2_c    <= s1_c;
+        s2_ne   <= s1_init && (c1_cnt != {(QW+1){1'b0}});
+        s2_c    <= s1_init ? c_rd : CTL_RESET;
         s2_w    <= w1;
         s2_rdec <= d1_rx;
         // an idle channel's last period with no result waiting: it may start
@@ -436,21 +441,21 @@ module twh_engine #(
         s2_last <= s1_init ? (st_rd[18:4] == 15'd0) : 1'b0;
         // a poll's listen ends: into twh_polls' result write, off the step
         s2_pend <= s1_init && (st_rd[2:0] == `TWH_PH_LISTEN) && (st_rd[18:4] == 15'd0) &&
-                   st_rd[PL];
-        s2_q    <= q_rd;
+                   st_rd[PL] && (POLLING != 0);
         // what the step chooses from, taken a clock ahead (off the step's
         // path): the poll's request, in the clock twh_polls reads its
         // command (scan_ch), so a poll-control write in between starts at
         // most the poll that was due, with the command it was checked with;
         // a flush's count
-        s2_pr   <= !rst && |(poll_req & at1);
+        s2_pr   <= !rst && |(poll_req & at1) && (POLLING != 0);
         // (the enable a clock ahead too: a flip-flop of the step's own,
         // off CTRL's fan-out, which was the UP5K's critical path)
         s2_en   <= enable;
         // the port's command is for this channel, whose queue has room
-        s2_take <= !rst && s1_v && s_cmd_valid && (s_cmd_ch == s1_ch) && !s1_c[C_CN + QW];
-        s2_ccnt <= c1_cc;
-        s2_cc   <= c1_cc != {(QW+1){1'b0}};
+        s2_take <= !rst && s1_v && s_cmd_valid && (s_cmd_ch == s1_ch) &&
+                   !(s1_init && c_rd[C_CN + QW]);
+        s2_ccnt <= s1_init ? c1_cc : {(QW+1){1'b0}};
+        s2_cc   <= s1_init && (c1_cc != {(QW+1){1'b0}});
     end
 
     // ------------------------------------------------------------ S2: the step
@@ -890,11 +895,13 @@ module twh_engine #(
         endcase
     endfunction
 
-    // the field the tracked channel's read asked for, carried to S2
-    reg [2:0] f_s1_fld, f_s2_fld;
+    // the field the timing RAM's read at S1 asked for, carried to S2, and
+    // whether that read's control word was the RAM's (not the first scan)
+    reg [2:0] f_s2_fld;
+    reg       f_s2_init;
     always @(posedge clk) begin
-        f_s1_fld <= fld_of(c0[C_PH +: 3]);
-        f_s2_fld <= f_s1_fld;
+        f_s2_fld  <= fld_of(c_rd[C_PH +: 3]);
+        f_s2_init <= s1_init;
     end
 
     wire [QW:0]   f_qcnt = f_cc[C_CN +: QW+1];
@@ -934,13 +941,12 @@ module twh_engine #(
             // written since reset, or being written: from the first scan's
             // S3 on (f_ch + 4 clocks after the tick: at P = 4 the last
             // channel's falls in the next scan's first clock), so at the
-            // pre-read the scan flags tell it
+            // clock before its read (S0) the scan flags tell it
             assert(f_wr_nx == (run2 || (run1 && f_since >= {{(8-CW){1'b0}}, f_ch} + 8'd4)));
-            if (pre_v && pre_ch == f_ch) assert(pre_init == f_wr_nx);
+            if (s0_v && s0_ch == f_ch) assert(s0_init == f_wr);
             // the control word read is the one the last visit wrote, and
             // the flags the core reads are its copies
-            if (s0_v && s0_ch == f_ch) assert(c0 == f_cc);
-            if (s1_v && s1_ch == f_ch) assert(s1_c == f_cc);
+            if (s1_v && s1_ch == f_ch && s1_init) assert(c_rd == f_cc);
             if (s2_v && s2_ch == f_ch) assert(s2_c == f_cc);
             assert(f_cc[C_PH +: 3] == f_ph);
             assert(busy_m[f_ch] == (f_qcnt != {(QW+1){1'b0}} || f_ph != `TWH_PH_IDLE) &&
@@ -948,7 +954,7 @@ module twh_engine #(
                    cz_m[f_ch] == (f_ccnt != {(QW+1){1'b0}}));
             // the timing field is the one the phase's successor loads
             assert(ph_q[f_ch*3 +: 3] == f_ph);
-            if (s2_v && s2_ch == f_ch) assert(f_s2_fld == f_fld(f_ph));
+            if (s2_v && s2_ch == f_ch && f_s2_init) assert(f_s2_fld == f_fld(f_ph));
             // the queue: its count is tail - head, full at QDEPTH, and a
             // transaction or a waiting result always has its entry (so a
             // pop never finds the queue empty: one result per command)
@@ -966,6 +972,9 @@ module twh_engine #(
             assert(f_ccnt <= f_qcnt - {{QW{1'b0}}, f_act});
             // a flush's cancels left are shown
             if (fpend[f_ch] || f_ccnt != {(QW+1){1'b0}}) assert(cancelling);
+            // a build without polls never starts one, and its word's poll
+            // fields stay 0
+            if (POLLING == 0) assert(!p_take && !p_res && !f_cur[PL] && f_cur[CT +: 12] == 12'd0);
             // a poll runs from its charge to its listen's end
             if (f_cur[PL]) assert(f_ph != `TWH_PH_IDLE && f_ph != `TWH_PH_TURNAROUND &&
                                   !f_cur[19]);
@@ -1265,7 +1274,7 @@ module twh_engine #(
     wire       f_go    = f_oph == `TWH_PH_IDLE && f_pre_last && !f_pre[19];
     wire       f_qsk   = f_at_qi && f_qm_sk != SK_NONE;     // the head is a skipped command
     wire       f_cmdw  = f_qcnt != {(QW+1){1'b0}} && (f_en3 || f_qsk);
-    wire       f_pollw = f_pr3 && f_en3;
+    wire       f_pollw = f_pr3 && f_en3 && POLLING != 0;   // (a build without polls ignores poll_req)
     wire       f_pref  = f_cc[C_PF];
     wire       f_s_cmd = s3_ctl[C_AC] && !f_act;              // the head started
     wire       f_s_pol = s3_word[PL] && !f_pre[PL];           // a poll started

@@ -36,8 +36,8 @@
 module twh_polls #(
     parameter integer CHANNELS = 1,
     parameter integer POLLING  = 1,      // 0: no poller (POLL_CTRL reads 0, nothing due)
-    // 1: the memories in block RAM (the iCE40s have no LUT RAM); 0:
-    // synthesis chooses (the ECP5's LUT RAM reads faster: twh_core's RAM_BLOCK)
+    // 1: the memories in block RAM (the iCE40s have no LUT RAM); 0: in
+    // LUT RAM at every depth (the ECP5's reads faster: twh_core's RAM_BLOCK)
     parameter integer RAM_BLOCK = 1,
     parameter integer CW       = (CHANNELS > 1) ? $clog2(CHANNELS) : 1
 ) (
@@ -100,8 +100,8 @@ module twh_polls #(
                 cm_rd <= cm_mem[scan_ch];
             end
         end else begin : g_mem
-            (* no_rw_check *) reg [31:0] pc_mem [0:(1 << CW) - 1];
-            (* no_rw_check *) reg [15:0] cm_mem [0:(1 << CW) - 1];
+            (* ram_style = "distributed" *) (* no_rw_check *) reg [31:0] pc_mem [0:(1 << CW) - 1];
+            (* ram_style = "distributed" *) (* no_rw_check *) reg [15:0] cm_mem [0:(1 << CW) - 1];
             always @(posedge clk) begin
                 if (pc_we) pc_mem[pc_wa] <= pc_wd;
                 pc_rd <= pc_mem[rd_ctrl ? rd_ch : w_ch];

@@ -5,8 +5,10 @@
 // a reset). BLOCK = 1 asks for block RAM even where Yosys would
 // build a shallow memory of flip-flops (the iCE40s have no LUT RAM, so a
 // 2- or 4-word memory of 68 bits would cost 136 or 272 of them); BLOCK = 0
-// leaves the choice to synthesis (on the ECP5 a shallow memory becomes LUT
-// RAM, whose read is faster than a block RAM's).
+// asks for LUT RAM at every depth (for parts that have it, the ECP5: its
+// read is faster than a block RAM's, whose 5.6 ns from clock to output
+// would stand in front of the engine's step; on the iCE40s it would be
+// flip-flops).
 `default_nettype none
 module twh_ram #(
     parameter integer W     = 16,
@@ -27,10 +29,12 @@ module twh_ram #(
     output wire [W-1:0]  f_data
 `endif
 );
-    // a read of the word written in the same clock is never used: the
-    // engine reads a channel's state word at least four clocks after its
-    // write, and its control word, read in its write's clock at a period
-    // of four clocks, is then taken from the write (twh_engine's s0_fwd).
+    // No read depends on what a read of the word being written in its
+    // clock gives: the engine reads a channel's state and control words
+    // P - 3 >= 1 clocks after their write and its queue head while only
+    // another channel's queue is written; a timing word rewritten in the
+    // clock of its read gives the length before or after, and either is
+    // one its field had (docs/engine.md, "In the core").
     // Both branches are g_mem, so f_data (a proof's view of one word) is
     // g_mem.mem[f_addr] whichever is built.
     generate
@@ -41,7 +45,7 @@ module twh_ram #(
                 rdata <= mem[raddr];
             end
         end else begin : g_mem
-            (* no_rw_check *) reg [W-1:0] mem [0:(1 << AW) - 1];
+            (* ram_style = "distributed" *) (* no_rw_check *) reg [W-1:0] mem [0:(1 << AW) - 1];
             always @(posedge clk) begin
                 if (we) mem[waddr] <= wdata;
                 rdata <= mem[raddr];
