@@ -8,9 +8,9 @@
 // not empty / holding an unstarted entry, a flush's count left).
 //
 // The scan. The carrier's tick starts a scan: channel c is read (S0) in the
-// (c+1)th clock after the tick, its word and operands come out of the RAMs
-// (S1) and are registered (S2; the length and a poll's command are read at
-// S1 into their RAMs' own registers), the next word and the queue's moves
+// (c+1)th clock after the tick, its words come out of the RAMs (S1) and
+// are registered (S2; its queue head, its length and its poll's command
+// are read at S1 into their RAMs' own registers), the next word and the queue's moves
 // are computed from them and registered (S3; a result handed over goes
 // out on m_res_* in the clock it is computed, S2's), and written three
 // clocks after the read, while the drive for the next period is computed
@@ -29,7 +29,7 @@
 //
 // Commands. Each channel has a queue of QDEPTH entries in one RAM (its slice
 // {channel, index}), its pointers in a control word of its own (a second
-// RAM, read a clock before the state word), moved only at its visit: the
+// RAM, read with the state word), moved only at its visit: the
 // port's command is taken at its channel's visit (within a carrier period
 // when its queue has room) and written at the tail then; until it is
 // taken, it waits at the port (held there: AXI-Stream). A command for an idle
@@ -194,8 +194,8 @@ module twh_engine #(
 
     // ------------------------------------------------------------ control word
     // Each channel's queue pointers and flags, a word of its own in block
-    // RAM (read a clock ahead of its state word, so the queue's and the
-    // timing RAM's reads at S0 take their addresses from it): head, tail,
+    // RAM (read with its state word, so the queue's and the timing RAM's
+    // reads at S1 take their addresses from its output): head, tail,
     // count, the flush's count of entries to cancel, the head started
     // (`act`), a due poll goes next (`pref`), and the phase (the timing
     // field the next phase loads is decoded from it).
