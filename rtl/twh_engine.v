@@ -71,9 +71,9 @@ module twh_engine #(
     parameter integer TAG_W     = 8,
     parameter integer QDEPTH    = 4,
     parameter integer GLITCH_NS = 100,
-    // 1: the state and queue RAMs in block RAM at any depth (iCE40: a
-    // shallow one would otherwise be flip-flops); 0: synthesis chooses
-    // (ECP5: LUT RAM while shallow)
+    // 1: the engine's RAMs in block RAM at any depth (iCE40: a shallow
+    // one would otherwise be flip-flops); 0: in LUT RAM at any depth
+    // (ECP5: faster to read than a block RAM, twh_ram)
     parameter integer RAM_BLOCK = 1,
     // 0: the clock floor is checked by the core's twh_carrier instead
     parameter integer CHECK_FLOOR = 1,

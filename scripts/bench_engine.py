@@ -37,7 +37,7 @@ def main():
         rows = {}
         for n in a.channels:
             # block RAM at every depth on the iCE40s (no LUT RAM there);
-            # on the ECP5 synthesis chooses (LUT RAM while shallow)
+            # LUT RAM at every depth on the ECP5 (RAM_BLOCK = 0)
             params = {"CHANNELS": n, "CLK_HZ": a.clk_hz,
                       "RAM_BLOCK": 0 if part.startswith("ecp5") else 1}
             runs = [synth(part, "twh_engine_bench", params, FILES,

@@ -156,7 +156,7 @@ def add_twh(soc, name="twh", pads=None, channels=1, fifo_depth=16, origin=None,
     <NAME>_CH_BASE/_CH_STRIDE, from the RDL). prog_timing=False,
     polling=False: the lean build (docs/integration.md, "Lean builds").
     ram_block=False: the core's RAM_BLOCK = 0, its engine's and pollers'
-    memories left to synthesis (LUT RAM on the ECP5; the iCE40s need 1)."""
+    memories in LUT RAM at every depth (the ECP5's; the iCE40s need 1)."""
     twh = TwoWireHost(soc.platform, pads, soc.sys_clk_freq, channels, fifo_depth,
                       prog_timing=prog_timing, polling=polling, ram_block=ram_block)
     setattr(soc.submodules, name, twh)
