@@ -3,7 +3,7 @@
 // The reference model of the engine's receiver: it is no part of the core
 // (rtl/). Its proof (formal/twh_rx.sby, tasks prove and uart) states the
 // receiver's rules here, and task equiv proves the time-shared engine's
-// receiver word (rtl/twh_rx_step.v, rtl/twh_rx_dec.v) equal to it. (It was
+// receiver word (rtl/twh_rx_step.v, rtl/twh_rx_dec.v, rtl/twh_rx_sum.v) equal to it. (It was
 // the receiver of twh_link, the per-channel engine of ENGINE = 0, retired.)
 //
 // - The first start bit counts only after at least half a bit (16 us) of
@@ -410,7 +410,9 @@ module twh_rx (
     wire [`TWH_RX_W-1:0] e_n;
     wire [7:0] e_dec;
     wire [3:0] e_status;
-    twh_rx_dec  e_d (.rx(e_w), .sync_low(1'b1), .pre_high(1'b1),
+    wire       e_sum;
+    twh_rx_sum  e_c (.rx(e_w), .ok(e_sum));
+    twh_rx_dec  e_d (.rx(e_w), .sync_low(1'b1), .pre_high(1'b1), .sum_ok(e_sum),
                      .dec(e_dec), .status(e_status));
     wire       e_ok = (e_status == `TWH_ST_OK) || (e_status == `TWH_ST_BAD_CHECKSUM);
     twh_rx_step e_s (.rx(e_w), .dec(e_dec), .env(env), .rx_n(e_n));

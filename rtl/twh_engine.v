@@ -9,8 +9,9 @@
 //
 // The scan. The carrier's tick starts a scan: channel c is read (S0) in the
 // (c+1)th clock after the tick, its words come out of the RAMs (S1) and
-// are registered (S2; its queue head, its length and its poll's command
-// are read at S1 into their RAMs' own registers), the next word and the queue's moves
+// are registered (S2; its state word's late part, its queue head, its
+// length and its poll's command are read at S1 into their RAMs' own
+// registers), the next word and the queue's moves
 // are computed from them and registered (S3; a result handed over goes
 // out on m_res_* in the clock it is computed, S2's), and written three
 // clocks after the read, while the drive for the next period is computed
@@ -169,6 +170,8 @@ module twh_engine #(
     endgenerate
 
     // ------------------------------------------------------------ state word
+    // (as the step sees it; stored in two parts, below, the phase in the
+    // control word)
     // [2:0] phase, [18:3] periods left (this one included), [19] a result
     // waits, [20] the line read low during sync, [21] high during preamble,
     // then the union U, by phase: the receiver's fields in listen; the
@@ -183,7 +186,7 @@ module twh_engine #(
     localparam integer NB = U0 + `TWH_RX_NB;   // 2: bytes received; tx: frame byte
     localparam integer PL = U0 + `TWH_RX_W;    // the transaction is a poll (its frame in SH)
     localparam integer CT = U0 + 46;     // 12: polls completed (POLL_RESULT.COUNT)
-    localparam integer W  = U0 + 58;     // 80: five iCE40 blocks of 16 bits
+    localparam integer W  = U0 + 58;     // 80 (77 stored, with a verdict bit: below)
     localparam integer UW = `TWH_RX_W;   // the union's width: the receiver's word
     localparam integer RS = U0 + 16;     // 4: the waiting result's status (data in U[15:0])
     localparam [W-1:0] W_RESET = {{(W-19){1'b0}}, `TWH_TURNAROUND_MIN + 16'd1, `TWH_PH_IDLE};
@@ -191,6 +194,32 @@ module twh_engine #(
     // is read, so synthesis drops what would step them
     localparam [W-1:0] W_POLL = ({{(W-1){1'b0}}, 1'b1} << PL) | ({{(W-12){1'b0}}, 12'hFFF} << CT);
     localparam [W-1:0] W_KEEP = (POLLING != 0) ? {W{1'b1}} : ~W_POLL;
+
+    // The word is kept in two RAMs, by when the pipeline needs its bits.
+    // The early part (EW bits) is read at S0, because S1 decodes it (last
+    // period, idle's end, the receiver's decodes and the answer's verdict),
+    // and is copied into S2's flip-flops: the count, the flags, the
+    // receiver's counters and flags, the poll flag, the poll count's high
+    // bits, and (not a field of the word) whether its data bits carry a
+    // good checksum, computed at the write (twh_rx_sum) so that S1 needs
+    // neither the data bits nor an adder. The late part (LW bits) is what
+    // the step reads only as data (the receiver's data bits, which also
+    // hold a poll's frame and a waiting result, and the poll count's low
+    // bits): read at S1, its RAM's own register is S2's operand, with no
+    // copy. The phase is not in either: it is the control word's. Three
+    // and two iCE40 blocks of 16 bits, as the 80-bit word took.
+    // The parts are the word's bits in their order (twh_defs.vh lays the
+    // receiver's data bits below its counters and flags): early [79:76]
+    // (the poll count's high bits), [67:46] (the poll flag, the receiver's
+    // flags, bytes, votes, bit, marks and bit clock), [21:3] (line flags,
+    // result waiting, the count); late [75:68] (the poll count's low bits)
+    // and [45:22] (the data bits). Plain slices, so the word is wiring.
+    localparam integer EW = 46;
+    localparam integer LW = 32;
+    // (as macros, not functions: a function call in every clock made the
+    // Icarus regression about a tenth slower)
+`define TWH_E_OF(x) {x[W-1 : CT+8], x[PL : SH+24], x[SH-1 : 3]}
+`define TWH_L_OF(x) {x[CT+7 : CT], x[SH+23 : SH]}
 
     // ------------------------------------------------------------ control word
     // Each channel's queue pointers and flags, a word of its own in block
@@ -270,13 +299,24 @@ module twh_engine #(
     reg           s1_v, s1_init, s1_env;
     reg [CW-1:0]  s1_ch;
     assign scan_ch = s1_ch;
-    wire [W-1:0]  st_rd;
+    wire [EW-1:0] e_rd;
+    wire [LW-1:0] l_rd;
     reg  [W-1:0]  s3_word;
+    wire          s3_sum;       // its data bits carry a good checksum
     reg           s3_v;
     reg  [CW-1:0] s3_ch;
-    twh_ram #(.W(W), .AW(CW), .BLOCK(RAM_BLOCK)) u_state (
-        .clk(clk), .we(s3_v), .waddr(s3_ch), .wdata(s3_word),
-        .raddr(s0_ch), .rdata(st_rd)
+    twh_rx_sum u_sum (.rx(s3_word[U0 +: UW]), .ok(s3_sum));
+    wire [EW-1:0] s3_e = {s3_sum, `TWH_E_OF(s3_word)};
+    wire [LW-1:0] s3_l = `TWH_L_OF(s3_word);
+    twh_ram #(.W(EW), .AW(CW), .BLOCK(RAM_BLOCK)) u_state (
+        .clk(clk), .we(s3_v), .waddr(s3_ch), .wdata(s3_e),
+        .raddr(s0_ch), .rdata(e_rd)
+    );
+    // (read a clock after the early part: S1's channel; a channel's write
+    // and its next read are P - 2 >= 2 clocks apart)
+    twh_ram #(.W(LW), .AW(CW), .BLOCK(RAM_BLOCK)) u_late (
+        .clk(clk), .we(s3_v), .waddr(s3_ch), .wdata(s3_l),
+        .raddr(s1_ch), .rdata(l_rd)
     );
 
     // The control word is read with the state word (S0) and written with
@@ -401,16 +441,23 @@ module twh_engine #(
     wire [QW:0]   c1_cc  = (|(fpend[CHANNELS-1:0] & at1) || cancel) ? c1_cnt - {{QW{1'b0}}, c_rd[C_AC]}
                                                     : c_rd[C_CC +: QW+1];
     reg           s2_v, s2_env, s2_ne, s2_last;
-    // the word as read, or the state after reset for a channel not yet
-    // visited since: idle, the minimum turnaround (and one) before a charge
-    wire [W-1:0]  w1 = (s1_init ? st_rd : W_RESET) & W_KEEP;
+    // the word as S1 has it: the early part, the phase from the control
+    // word, no data bits
+    wire [W-1:0]  st_rd = {e_rd[EW-2 -: 4], 8'd0, e_rd[EW-6 : SH-3], 24'd0, e_rd[SH-4 : 0],
+                           c_rd[C_PH +: 3]};
+    // ... or the state after reset for a channel not yet visited since:
+    // idle, the minimum turnaround (and one) before a charge
+    // verilator lint_off UNUSEDSIGNAL
+    wire [W-1:0]  w1 = (s1_init ? st_rd : W_RESET) & W_KEEP;   // (the early part's bits)
+    // verilator lint_on UNUSEDSIGNAL
+    wire [EW-2:0] e1 = `TWH_E_OF(w1);
     // the receiver's decodes and the answer's verdict, a clock ahead of
     // the step (off its path); only a word in listen uses them, and that
     // word is always the RAM's (the reset word is idle)
     wire [7:0]    d1_rx;
     wire [3:0]    d1_status;
     twh_rx_dec u_rdec (.rx(st_rd[U0 +: UW]), .sync_low(st_rd[20]), .pre_high(st_rd[21]),
-                       .dec(d1_rx), .status(d1_status));
+                       .sum_ok(e_rd[EW-1]), .dec(d1_rx), .status(d1_status));
     // (the answer's data is its bytes when OK or BAD_CHECKSUM)
     wire          d1_ok = (d1_status == `TWH_ST_OK) || (d1_status == `TWH_ST_BAD_CHECKSUM);
     reg           s2_idle_go, s2_pend;
@@ -418,20 +465,33 @@ module twh_engine #(
     reg [3:0]     s2_status;
     reg           s2_ok;
     reg [CW-1:0]  s2_ch;
-    reg [W-1:0]   s2_w;
+    reg           s2_init;
+    reg [EW-2:0]  s2_e;           // the early part (without the verdict)
     wire [QE-1:0] s2_q = q_rd;    // (the queue RAM's register: read at S1)
     wire [15:0]   s2_len = t_rd;    // (the timing RAM's register: read at S1)
     reg           s2_pr, s2_cc;
     reg           s2_en;          // `enable`, taken at S1
     reg [QW:0]    s2_ccnt;
     reg [CTW-1:0] s2_c;
+    // The word the step takes: the phase from the control word, the early
+    // part from its copy, the late part from its RAM's register. In the
+    // first scan after a reset the late RAM's word is not the channel's.
+    // The step from idle neither reads nor sets it, so its write takes the
+    // poll count's low bits as the reset word has them, 0 (S3's flip-flops'
+    // reset: a gate in front of the count's adder cost 24 LUTs), and
+    // leaves its data bits as read: every use writes them first (a poll's
+    // frame at its start, the receiver's cleared word at the execute's
+    // end, a skipped command's result).
+    wire [W-1:0]  s2_w = {s2_e[EW-2 -: 4], l_rd[LW-1 -: 8], s2_e[EW-6 : SH-3], l_rd[23:0],
+                          s2_e[SH-4 : 0], s2_c[C_PH +: 3]} & W_KEEP;
     always @(posedge clk) begin
         s2_v    <= !rst && s1_v;
         s2_ch   <= s1_ch;
         s2_env  <= s1_env;
         s2_ne   <= s1_init && (c1_cnt != {(QW+1){1'b0}});
         s2_c    <= s1_init ? c_rd : CTL_RESET;
-        s2_w    <= w1;
+        s2_init <= s1_init;
+        s2_e    <= e1;
         s2_rdec <= d1_rx;
         // an idle channel's last period with no result waiting: it may start
         s2_idle_go <= s1_init && (st_rd[2:0] == `TWH_PH_IDLE) && (st_rd[18:4] == 15'd0) &&
@@ -656,6 +716,7 @@ module twh_engine #(
         s3_v      <= !rst && s2_v;
         s3_ch     <= s2_ch;
         s3_word   <= wn;
+        if (!s2_init) s3_word[CT +: 8] <= 8'd0;
         s3_ctl    <= cn_w;
         s3_ins    <= ins;
         s3_last   <= last;
@@ -853,10 +914,14 @@ module twh_engine #(
     // clock ahead) are its word's, whenever the word is in listen (the
     // only phase that reads them; twh_rx:equiv proves the step and the
     // decodes against twh_rx)
+    // (the verdict of its data bits, which the step reads from the late
+    // part's RAM: the one stored with its early part is theirs)
     wire [7:0] f_rdec;
     wire [3:0] f_rstatus;
+    wire       f_rsum;
+    twh_rx_sum f_rx_sum (.rx(s2_w[U0 +: UW]), .ok(f_rsum));
     twh_rx_dec f_rx_dec (.rx(s2_w[U0 +: UW]), .sync_low(s2_w[20]), .pre_high(s2_w[21]),
-                         .dec(f_rdec), .status(f_rstatus));
+                         .sum_ok(f_rsum), .dec(f_rdec), .status(f_rstatus));
     always @(*)
         if (f_ok && s2_v && s2_w[2:0] == `TWH_PH_LISTEN)
             assert(s2_rdec == f_rdec && s2_status == f_rstatus &&
@@ -879,6 +944,16 @@ module twh_engine #(
     always @(posedge clk) if (s3_v && s3_ch == f_ch) f_c <= s3_ctl;
     wire [CTW-1:0] f_cc = f_wr ? f_c : CTL_RESET;
     wire [2:0]   f_ph  = f_cur[2:0];
+    // the early part the RAM holds for the shadow word: with its verdict
+    wire         f_wsum;
+    twh_rx_sum f_w_sum (.rx(f_w[U0 +: UW]), .ok(f_wsum));
+    // the late part: the first scan after a reset takes the late RAM's
+    // word (the step from idle does not read it; its write clears the poll
+    // count's low bits), so until the tracked channel's first write the
+    // step's word is the reset word but there
+    localparam [W-1:0] W_LATE = ({{(W-24){1'b0}}, 24'hFFFFFF} << SH) |
+                                ({{(W-8){1'b0}}, 8'hFF} << CT);
+    wire [W-1:0] f_dc = f_wr ? {W{1'b0}} : W_LATE;
 
     // the field each phase's successor loads (written out here, not
     // twh_defs.vh's TWH_FLD_OF, which the RTL uses)
@@ -934,8 +1009,9 @@ module twh_engine #(
             if (s2_v && s2_ch == f_ch) assert(!(s3_v && s3_ch == f_ch));
             // the RAM's word for the tracked channel is the shadow
             if (s1_v && s1_ch == f_ch) assert(s1_init == f_wr);
-            if (s1_v && s1_ch == f_ch && f_wr) assert(st_rd == f_w);
-            if (s2_v && s2_ch == f_ch) assert(s2_w == f_cur && s2_last == (f_cur[18:4] == 15'd0));
+            if (s1_v && s1_ch == f_ch && f_wr) assert(e_rd == {f_wsum, `TWH_E_OF(f_w)});
+            if (s2_v && s2_ch == f_ch) assert((s2_w | f_dc) == (f_cur | f_dc) &&
+                                              s2_last == (f_cur[18:4] == 15'd0));
             // (taken at S1 from the same word)
             if (s2_v) assert(s2_idle_go == (s2_w[2:0] == `TWH_PH_IDLE && s2_last && !s2_w[19]));
             // written since reset, or being written: from the first scan's
@@ -996,11 +1072,13 @@ module twh_engine #(
     // f_fld of the phase before it, above), the command phase its 33 or
     // 44 bits, the idle after a turnaround one tick
     reg [W-1:0] f_pre;        // the word the step started from
+    reg         f_pre_init;   // ... not in the first scan after a reset
     reg         f_pre_last;
     reg [15:0]  f_pre_len;
     reg [7:0]   f_pre_code;
     always @(posedge clk) begin
         f_pre      <= s2_w;
+        f_pre_init <= s2_init;
         f_pre_last <= s2_last;
         f_pre_len  <= s2_len;
         f_pre_code <= q_code;
@@ -1353,7 +1431,8 @@ module twh_engine #(
                                             f_pst == `TWH_ST_BAD_CHECKSUM);
                 assert(f_pct == f_pre[CT +: 12] + 12'd1 && s3_word[CT +: 12] == f_pct);
             end else begin
-                assert(s3_word[CT +: 12] == f_pre[CT +: 12]);
+                // (the first scan's write takes the reset word's count: 0)
+                assert(s3_word[CT +: 12] == (f_pre_init ? f_pre[CT +: 12] : 12'd0));
             end
         end
         // a charge has both clear, a sync only its own
@@ -1364,4 +1443,6 @@ module twh_engine #(
     end
 `endif
 endmodule
+`undef TWH_E_OF
+`undef TWH_L_OF
 `default_nettype wire

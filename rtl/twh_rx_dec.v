@@ -3,7 +3,9 @@
 // step: the time-shared engine decodes the word as it leaves the state RAM
 // and registers the flags beside it, so that the step itself is only the
 // multiplexers they select (the receiver's step was the engine's longest
-// path on the ECP5 and the UP5K).
+// path on the ECP5 and the UP5K). The data bits are not read here: the
+// checksum's verdict comes in as `sum_ok` (twh_rx_sum of the same word,
+// which the engine stores with it).
 `default_nettype none
 `include "twh_defs.vh"
 module twh_rx_dec (
@@ -12,6 +14,8 @@ module twh_rx_dec (
     // verilator lint_on UNUSEDSIGNAL
     input  wire       sync_low,   // the line was read low during sync
     input  wire       pre_high,   // ... and high during preamble
+    input  wire       sum_ok,     // twh_rx_sum of rx: the third byte is the
+                                  // checksum of the first two
     // for twh_rx_step: [0] the answer is done (three characters, a framing
     // error or a break), [1] a start bit may begin (a character came, or
     // 16 marks), [2] 16 marks, [3] a vote sample (11 or 15 ticks into the
@@ -23,7 +27,6 @@ module twh_rx_dec (
     // or BAD_CHECKSUM
     output reg  [3:0] status
 );
-    wire [23:0] sh  = rx[`TWH_RX_SH +: 24];
     wire [4:0]  sub = rx[`TWH_RX_SB +: 5];
     wire [4:0]  mk  = rx[`TWH_RX_MK +: 5];
     wire [3:0]  bn  = rx[`TWH_RX_BN +: 4];
@@ -45,11 +48,8 @@ module twh_rx_dec (
     // a character came, the answer ended, or one is past its start's
     // re-check at 19 us), which tells a short answer from none
     wire st = (nb != 2'd0) || fe || en || (ac && (bn != 4'd0 || sub >= 5'd20));
-    wire [7:0] chk;
-    twh_checksum u_chk (.a(sh[7:0]), .b(sh[15:8]), .c(8'd0), .chk(chk));
     // the checksum's verdict is the last choice, not inside the chain of
-    // the others: its adder is the slowest input (the ECP5-25F's longest
-    // path at one channel)
+    // the others (when its adder was here, it was the slowest input)
     wire full = sync_low && pre_high && !fe && (nb == 2'd3);
     reg [3:0] other;
     always @(*) begin
@@ -58,7 +58,7 @@ module twh_rx_dec (
         else if (fe)           other = `TWH_ST_FRAMING;
         else if (st)           other = `TWH_ST_SHORT_RESPONSE;
         else                   other = `TWH_ST_NO_RESPONSE;
-        if (full)              status = (chk == sh[23:16]) ? `TWH_ST_OK : `TWH_ST_BAD_CHECKSUM;
+        if (full)              status = sum_ok ? `TWH_ST_OK : `TWH_ST_BAD_CHECKSUM;
         else                   status = other;
     end
 endmodule

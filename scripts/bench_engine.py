@@ -21,7 +21,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from synth import synth  # noqa: E402
 
 FILES = ["rtl/twh_engine.v", "rtl/twh_engine_pin.v", "rtl/twh_ram.v", "rtl/twh_sync2.v",
-         "rtl/twh_checksum.v", "rtl/twh_rx_dec.v", "rtl/twh_rx_step.v", "rtl/twh_carrier.v", "scripts/bench/twh_engine_bench.v"]
+         "rtl/twh_checksum.v", "rtl/twh_rx_dec.v", "rtl/twh_rx_sum.v", "rtl/twh_rx_step.v", "rtl/twh_carrier.v", "scripts/bench/twh_engine_bench.v"]
 TARGET = {"hx8k": 100.0, "up5k": 48.0, "ecp5-25f": 160.0, "ecp5-85f": 160.0}
 
 

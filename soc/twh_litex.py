@@ -35,7 +35,8 @@ RDL_PATH = ROOT / "rdl" / "twh_regs.rdl"
 # the core's sources (no board or UART bridge files)
 RTL_FILES = ("twh_wb.v", "twh_core.v", "twh_carrier.v", "twh_checksum.v", "twh_fifo.v",
              "twh_sync2.v", "twh_timing.v", "twh_window.v", "twh_ram.v", "twh_engine_pin.v",
-             "twh_engine.v", "twh_polls.v", "twh_core_engine.v", "twh_rx_dec.v", "twh_rx_step.v")
+             "twh_engine.v", "twh_polls.v", "twh_core_engine.v", "twh_rx_dec.v", "twh_rx_sum.v",
+             "twh_rx_step.v")
 
 
 @dataclass(frozen=True)
