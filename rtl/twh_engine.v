@@ -310,13 +310,13 @@ module twh_engine #(
     wire [LW-1:0] s3_l = `TWH_L_OF(s3_word);
     twh_ram #(.W(EW), .AW(CW), .BLOCK(RAM_BLOCK)) u_state (
         .clk(clk), .we(s3_v), .waddr(s3_ch), .wdata(s3_e),
-        .raddr(s0_ch), .rdata(e_rd)
+        .re(s0_v), .raddr(s0_ch), .rdata(e_rd)
     );
     // (read a clock after the early part: S1's channel; a channel's write
     // and its next read are P - 2 >= 2 clocks apart)
     twh_ram #(.W(LW), .AW(CW), .BLOCK(RAM_BLOCK)) u_late (
         .clk(clk), .we(s3_v), .waddr(s3_ch), .wdata(s3_l),
-        .raddr(s1_ch), .rdata(l_rd)
+        .re(s1_v), .raddr(s1_ch), .rdata(l_rd)
     );
 
     // The control word is read with the state word (S0) and written with
@@ -328,7 +328,7 @@ module twh_engine #(
     reg  [CTW-1:0] s3_ctl;
     twh_ram #(.W(CTW), .AW(CW), .BLOCK(RAM_BLOCK)) u_ctl (
         .clk(clk), .we(s3_v), .waddr(s3_ch), .wdata(s3_ctl),
-        .raddr(s0_ch), .rdata(c_rd)
+        .re(s0_v), .raddr(s0_ch), .rdata(c_rd)
     );
     // Reset needs no flag a channel: every scan visits and writes every
     // channel, so a channel's words are its own from the second scan after
@@ -383,7 +383,7 @@ module twh_engine #(
 `endif
     twh_ram #(.W(QE), .AW(CW + QW), .BLOCK(RAM_BLOCK)) u_queue (
         .clk(clk), .we(ins), .waddr({s2_ch, ins_tl}), .wdata(p_e),
-        .raddr({s1_ch, c_rd[C_HD +: QW]}), .rdata(q_rd)
+        .re(s1_v), .raddr({s1_ch, c_rd[C_HD +: QW]}), .rdata(q_rd)
 `ifdef FORMAL
         , .f_addr({f_ch, f_qi}), .f_data(f_qm)
 `endif
@@ -400,7 +400,7 @@ module twh_engine #(
         if (FIXED_TIMING == 0) begin : g_tram
             twh_ram #(.W(16), .AW(CW + 3), .BLOCK(RAM_BLOCK)) u_timing (
                 .clk(clk), .we(t_we), .waddr({t_ch, t_fld}), .wdata(t_len),
-                .raddr({s1_ch, fld_of(c_rd[C_PH +: 3])}), .rdata(t_rd)
+                .re(s1_v), .raddr({s1_ch, fld_of(c_rd[C_PH +: 3])}), .rdata(t_rd)
 `ifdef FORMAL
                 , .f_addr({f_ch, f_tf}), .f_data(f_tm)
 `endif
@@ -477,11 +477,11 @@ module twh_engine #(
     // part from its copy, the late part from its RAM's register. In the
     // first scan after a reset the late RAM's word is not the channel's.
     // The step from idle neither reads nor sets it, so its write takes the
-    // poll count's low bits as the reset word has them, 0 (S3's flip-flops'
-    // reset: a gate in front of the count's adder cost 24 LUTs), and
-    // leaves its data bits as read: every use writes them first (a poll's
-    // frame at its start, the receiver's cleared word at the execute's
-    // end, a skipped command's result).
+    // late part as the reset word has it, 0 (S3's flip-flops' reset: a gate
+    // in front of the poll count's adder cost 24 LUTs). (The data bits
+    // would do as read, since every use writes them first; cleared, no
+    // simulation carries a RAM's unknown power-up word round the scan,
+    // which made the Icarus regression a tenth slower.)
     wire [W-1:0]  s2_w = {s2_e[EW-2 -: 4], l_rd[LW-1 -: 8], s2_e[EW-6 : SH-3], l_rd[23:0],
                           s2_e[SH-4 : 0], s2_c[C_PH +: 3]} & W_KEEP;
     always @(posedge clk) begin
@@ -520,9 +520,17 @@ module twh_engine #(
 
     // ------------------------------------------------------------ S2: the step
     wire [W-1:0] w     = s2_w;
-    wire [2:0]   ph    = w[2:0];
-    wire [15:0]  cnt   = w[18:3];
-    wire         rwait = w[19];
+    // the fields the logic around the step reads, taken from the part
+    // each is kept in rather than through w, so a simulator re-evaluates
+    // each only when its own part changes (through w, the late part's
+    // register made the Icarus regression a tenth slower)
+    wire [2:0]   ph    = s2_c[C_PH +: 3];                     // w[2:0]
+    wire [15:0]  cnt   = s2_e[15:0];                          // w[18:3]
+    wire         rwait = s2_e[16];                            // w[19]
+    wire         w_pl  = s2_e[EW-6];                          // w[PL]
+    wire [19:0]  w_sh  = l_rd[19:0];                          // w[SH +: 20]
+    wire [11:0]  w_ct  = {s2_e[EW-2 -: 4], l_rd[LW-1 -: 8]};  // w[CT +: 12]
+    wire [UW-1:0] w_rx = {s2_e[EW-7 : SH-3], l_rd[23:0]};    // w[U0 +: UW]
     wire         last  = s2_last;       // cnt <= 1: this period is the phase's last
     wire         env   = s2_env;
 
@@ -538,20 +546,20 @@ module twh_engine #(
     // step's path (it goes only into s3_q), by an adder each in front of
     // the choice: one adder behind the choice put the poll flag's fan-out
     // and the carry chain in one path, the ECP5-25F's longest
-    wire [7:0]       f_code = w[PL] ? w[SH +: 8]   : q_code;
-    wire [7:0]       f_pmsb = w[PL] ? 8'd0         : q_pmsb;
-    wire [7:0]       f_plsb = w[PL] ? w[SH+8 +: 8] : q_plsb;
+    wire [7:0]       f_code = w_pl ? w_sh[7:0]  : q_code;
+    wire [7:0]       f_pmsb = w_pl ? 8'd0       : q_pmsb;
+    wire [7:0]       f_plsb = w_pl ? w_sh[15:8] : q_plsb;
     wire [7:0]       q_chk, p_chk;
     twh_checksum u_qchk (.a(q_code), .b(q_pmsb), .c(q_plsb), .chk(q_chk));
-    twh_checksum u_pchk (.a(w[SH +: 8]), .b(8'd0), .c(w[SH+8 +: 8]), .chk(p_chk));
-    wire [7:0]       f_chk = w[PL] ? p_chk : q_chk;
+    twh_checksum u_pchk (.a(w_sh[7:0]), .b(8'd0), .c(w_sh[15:8]), .chk(p_chk));
+    wire [7:0]       f_chk = w_pl ? p_chk : q_chk;
 
     // the receiver: its fields (data bits at SH) and the answer's verdict
-    wire [15:0] r_sh      = w[SH +: 16];
+    wire [15:0] r_sh      = w_sh[15:0];
     wire [3:0]  r_status  = s2_status;
     wire        r_data_ok = s2_ok;
     wire [UW-1:0] rx_n;
-    twh_rx_step u_rstep (.rx(w[U0 +: UW]), .dec(s2_rdec), .env(env), .rx_n(rx_n));
+    twh_rx_step u_rstep (.rx(w_rx), .dec(s2_rdec), .env(env), .rx_n(rx_n));
 
     // The hand-over needs room where the result goes (m_res_ready: the
     // result FIFO is not full). The claim: a full FIFO that takes one
@@ -716,7 +724,10 @@ module twh_engine #(
         s3_v      <= !rst && s2_v;
         s3_ch     <= s2_ch;
         s3_word   <= wn;
-        if (!s2_init) s3_word[CT +: 8] <= 8'd0;
+        if (!s2_init) begin
+            s3_word[CT +: 8]  <= 8'd0;
+            s3_word[SH +: 24] <= 24'd0;
+        end
         s3_ctl    <= cn_w;
         s3_ins    <= ins;
         s3_last   <= last;
@@ -728,7 +739,7 @@ module twh_engine #(
     assign p_ch     = s2_ch;
     assign p_data   = r_data_ok ? {r_sh[7:0], r_sh[15:8]} : 16'd0;
     assign p_status = r_status;
-    assign p_count  = w[CT +: 12] + 12'd1;
+    assign p_count  = w_ct + 12'd1;
 
     // S3: the drive for the next period, from the new word (NOTES.md):
     // the idle carrier only once the idle's count is out; the command
@@ -759,8 +770,8 @@ module twh_engine #(
     assign m_res_valid  = !rst && s2_v && hand;
     assign m_res_ch     = s2_ch;
     assign m_res_code   = q_code;
-    assign m_res_data   = w[U0 +: 16];
-    assign m_res_status = w[RS +: 4];
+    assign m_res_data   = w_sh[15:0];        // w[U0 +: 16]
+    assign m_res_status = w_sh[RS-SH +: 4];  // w[RS +: 4]
     assign m_res_tag    = q_tag;
 
     // a flush's cancels are left: a channel's flag or count, or one on its
@@ -948,9 +959,9 @@ module twh_engine #(
     wire         f_wsum;
     twh_rx_sum f_w_sum (.rx(f_w[U0 +: UW]), .ok(f_wsum));
     // the late part: the first scan after a reset takes the late RAM's
-    // word (the step from idle does not read it; its write clears the poll
-    // count's low bits), so until the tracked channel's first write the
-    // step's word is the reset word but there
+    // word (the step from idle does not read it; its write clears it), so
+    // until the tracked channel's first write the step's word is the
+    // reset word but there
     localparam [W-1:0] W_LATE = ({{(W-24){1'b0}}, 24'hFFFFFF} << SH) |
                                 ({{(W-8){1'b0}}, 8'hFF} << CT);
     wire [W-1:0] f_dc = f_wr ? {W{1'b0}} : W_LATE;
@@ -1434,6 +1445,8 @@ module twh_engine #(
                 // (the first scan's write takes the reset word's count: 0)
                 assert(s3_word[CT +: 12] == (f_pre_init ? f_pre[CT +: 12] : 12'd0));
             end
+            // ... and its data bits: 0, the reset word's
+            if (!f_pre_init) assert(s3_word[SH +: 24] == 24'd0);
         end
         // a charge has both clear, a sync only its own
         if (f_ok && !rst) begin

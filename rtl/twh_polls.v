@@ -114,7 +114,7 @@ module twh_polls #(
     wire        tm_we;
     reg  [15:0] tm_wd;
     twh_ram #(.W(16), .AW(CW), .BLOCK(RAM_BLOCK)) u_timer (
-        .clk(clk), .we(tm_we), .waddr(w_ch), .wdata(q_tm), .raddr(w_ch), .rdata(tm_rd)
+        .clk(clk), .we(tm_we), .waddr(w_ch), .wdata(q_tm), .re(1'b1), .raddr(w_ch), .rdata(tm_rd)
     );
     wire [31:0] pc_w;
     reg  [15:0] q_tm;           // (with q_cmd) the step's: the timer word, reload
@@ -234,7 +234,7 @@ module twh_polls #(
     twh_ram #(.W(32), .AW(CW), .BLOCK(RAM_BLOCK)) u_res (
         .clk(clk), .we((p_res || sw_we) && POLLING != 0), .waddr(sw_we ? sw_ch : p_ch),
         .wdata(sw_we ? 32'd0 : pr_wd),
-        .raddr(rd_ch), .rdata(pr_rd)
+        .re(1'b1), .raddr(rd_ch), .rdata(pr_rd)
 `ifdef FORMAL
         , .f_addr(rd_ch), .f_data(f_pr_now)
 `endif

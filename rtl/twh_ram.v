@@ -19,6 +19,10 @@ module twh_ram #(
     input  wire          we,
     input  wire [AW-1:0] waddr,
     input  wire [W-1:0]  wdata,
+    // 1: read raddr; 0: the read register keeps its word (the engine reads
+    // only for a visit, so that a simulator sees its RAMs' outputs change
+    // only then: in the clocks between scans they held still)
+    input  wire          re,
     input  wire [AW-1:0] raddr,
     output reg  [W-1:0]  rdata
 `ifdef FORMAL
@@ -42,13 +46,13 @@ module twh_ram #(
             (* ram_style = "block" *) (* no_rw_check *) reg [W-1:0] mem [0:(1 << AW) - 1];
             always @(posedge clk) begin
                 if (we) mem[waddr] <= wdata;
-                rdata <= mem[raddr];
+                if (re) rdata <= mem[raddr];
             end
         end else begin : g_mem
             (* ram_style = "distributed" *) (* no_rw_check *) reg [W-1:0] mem [0:(1 << AW) - 1];
             always @(posedge clk) begin
                 if (we) mem[waddr] <= wdata;
-                rdata <= mem[raddr];
+                if (re) rdata <= mem[raddr];
             end
         end
     endgenerate
