@@ -529,7 +529,6 @@ module twh_engine #(
     wire         rwait = s2_e[16];                            // w[19]
     wire         w_pl  = s2_e[EW-6];                          // w[PL]
     wire [19:0]  w_sh  = l_rd[19:0];                          // w[SH +: 20]
-    wire [11:0]  w_ct  = {s2_e[EW-2 -: 4], l_rd[LW-1 -: 8]};  // w[CT +: 12]
     wire [UW-1:0] w_rx = {s2_e[EW-7 : SH-3], l_rd[23:0]};    // w[U0 +: UW]
     wire         last  = s2_last;       // cnt <= 1: this period is the phase's last
     wire         env   = s2_env;
@@ -739,7 +738,7 @@ module twh_engine #(
     assign p_ch     = s2_ch;
     assign p_data   = r_data_ok ? {r_sh[7:0], r_sh[15:8]} : 16'd0;
     assign p_status = r_status;
-    assign p_count  = w_ct + 12'd1;
+    assign p_count  = w[CT +: 12] + 12'd1;   // (as the step's count: one adder)
 
     // S3: the drive for the next period, from the new word (NOTES.md):
     // the idle carrier only once the idle's count is out; the command
