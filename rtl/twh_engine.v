@@ -310,10 +310,15 @@ module twh_engine #(
     wire [LW-1:0] s3_l = `TWH_L_OF(s3_word);
     twh_ram #(.W(EW), .AW(CW), .BLOCK(RAM_BLOCK)) u_state (
         .clk(clk), .we(s3_v), .waddr(s3_ch), .wdata(s3_e),
-        .re(s0_v), .raddr(s0_ch), .rdata(e_rd)
+        .re(1'b1), .raddr(s0_ch), .rdata(e_rd)
     );
     // (read a clock after the early part: S1's channel; a channel's write
-    // and its next read are P - 2 >= 2 clocks apart)
+    // and its next read are P - 2 >= 2 clocks apart). Read only for a
+    // visit, so that its word changes only then: read every clock, it made
+    // the Icarus regression about a tenth slower, as each change goes
+    // through the step's word. (The other RAMs read every clock: a read
+    // enable shared by all of them cost the HX8K at 32 channels about 9
+    // MHz of its median Fmax, by placement.)
     twh_ram #(.W(LW), .AW(CW), .BLOCK(RAM_BLOCK)) u_late (
         .clk(clk), .we(s3_v), .waddr(s3_ch), .wdata(s3_l),
         .re(s1_v), .raddr(s1_ch), .rdata(l_rd)
@@ -328,7 +333,7 @@ module twh_engine #(
     reg  [CTW-1:0] s3_ctl;
     twh_ram #(.W(CTW), .AW(CW), .BLOCK(RAM_BLOCK)) u_ctl (
         .clk(clk), .we(s3_v), .waddr(s3_ch), .wdata(s3_ctl),
-        .re(s0_v), .raddr(s0_ch), .rdata(c_rd)
+        .re(1'b1), .raddr(s0_ch), .rdata(c_rd)
     );
     // Reset needs no flag a channel: every scan visits and writes every
     // channel, so a channel's words are its own from the second scan after
@@ -383,7 +388,7 @@ module twh_engine #(
 `endif
     twh_ram #(.W(QE), .AW(CW + QW), .BLOCK(RAM_BLOCK)) u_queue (
         .clk(clk), .we(ins), .waddr({s2_ch, ins_tl}), .wdata(p_e),
-        .re(s1_v), .raddr({s1_ch, c_rd[C_HD +: QW]}), .rdata(q_rd)
+        .re(1'b1), .raddr({s1_ch, c_rd[C_HD +: QW]}), .rdata(q_rd)
 `ifdef FORMAL
         , .f_addr({f_ch, f_qi}), .f_data(f_qm)
 `endif
@@ -400,7 +405,7 @@ module twh_engine #(
         if (FIXED_TIMING == 0) begin : g_tram
             twh_ram #(.W(16), .AW(CW + 3), .BLOCK(RAM_BLOCK)) u_timing (
                 .clk(clk), .we(t_we), .waddr({t_ch, t_fld}), .wdata(t_len),
-                .re(s1_v), .raddr({s1_ch, fld_of(c_rd[C_PH +: 3])}), .rdata(t_rd)
+                .re(1'b1), .raddr({s1_ch, fld_of(c_rd[C_PH +: 3])}), .rdata(t_rd)
 `ifdef FORMAL
                 , .f_addr({f_ch, f_tf}), .f_data(f_tm)
 `endif

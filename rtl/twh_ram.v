@@ -19,9 +19,9 @@ module twh_ram #(
     input  wire          we,
     input  wire [AW-1:0] waddr,
     input  wire [W-1:0]  wdata,
-    // 1: read raddr; 0: the read register keeps its word (the engine reads
-    // only for a visit, so that a simulator sees its RAMs' outputs change
-    // only then: in the clocks between scans they held still)
+    // 1: read raddr; 0: the read register keeps its word (the engine's
+    // late part of the state word is read only for a visit, so that a
+    // simulator sees it change only then)
     input  wire          re,
     input  wire [AW-1:0] raddr,
     output reg  [W-1:0]  rdata
