@@ -216,8 +216,8 @@ module twh_engine #(
     // and [45:22] (the data bits). Plain slices, so the word is wiring.
     localparam integer EW = 46;
     localparam integer LW = 32;
-    // (as macros, not functions: a function call in every clock made the
-    // Icarus regression about a tenth slower)
+    // (as macros, not functions: Icarus calls a function at every change
+    // of its argument, and the regression ran slower with them)
 `define TWH_E_OF(x) {x[W-1 : CT+8], x[PL : SH+24], x[SH-1 : 3]}
 `define TWH_L_OF(x) {x[CT+7 : CT], x[SH+23 : SH]}
 
@@ -485,8 +485,7 @@ module twh_engine #(
     // late part as the reset word has it, 0 (S3's flip-flops' reset: a gate
     // in front of the poll count's adder cost 24 LUTs). (The data bits
     // would do as read, since every use writes them first; cleared, no
-    // simulation carries a RAM's unknown power-up word round the scan,
-    // which made the Icarus regression a tenth slower.)
+    // RAM's unknown power-up word goes round the scan in a simulation.)
     wire [W-1:0]  s2_w = {s2_e[EW-2 -: 4], l_rd[LW-1 -: 8], s2_e[EW-6 : SH-3], l_rd[23:0],
                           s2_e[SH-4 : 0], s2_c[C_PH +: 3]} & W_KEEP;
     always @(posedge clk) begin
@@ -527,8 +526,7 @@ module twh_engine #(
     wire [W-1:0] w     = s2_w;
     // the fields the logic around the step reads, taken from the part
     // each is kept in rather than through w, so a simulator re-evaluates
-    // each only when its own part changes (through w, the late part's
-    // register made the Icarus regression a tenth slower)
+    // each only when its own part changes
     wire [2:0]   ph    = s2_c[C_PH +: 3];                     // w[2:0]
     wire [15:0]  cnt   = s2_e[15:0];                          // w[18:3]
     wire         rwait = s2_e[16];                            // w[19]
