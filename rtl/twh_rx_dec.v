@@ -10,7 +10,7 @@
 `include "twh_defs.vh"
 module twh_rx_dec (
     // verilator lint_off UNUSEDSIGNAL
-    input  wire [`TWH_RX_W-1:0] rx,     // (the votes are the step's alone)
+    input  wire [`TWH_RX_W-1:0] rx,     // (not its data bits or votes: the step's alone)
     // verilator lint_on UNUSEDSIGNAL
     input  wire       sync_low,   // the line was read low during sync
     input  wire       pre_high,   // ... and high during preamble
