@@ -445,7 +445,7 @@ module twh_engine #(
     wire [QW:0]   c1_cnt = c_rd[C_CN +: QW+1];
     wire [QW:0]   c1_cc  = (|(fpend[CHANNELS-1:0] & at1) || cancel) ? c1_cnt - {{QW{1'b0}}, c_rd[C_AC]}
                                                     : c_rd[C_CC +: QW+1];
-    reg           s2_v, s2_env, s2_ne, s2_last;
+    reg           s2_v, s2_env, s2_last;
     // the word as S1 has it: the early part, the phase from the control
     // word, no data bits
     wire [W-1:0]  st_rd = {e_rd[EW-2 -: 4], 8'd0, e_rd[EW-6 : SH-3], 24'd0, e_rd[SH-4 : 0],
@@ -465,7 +465,7 @@ module twh_engine #(
                        .sum_ok(e_rd[EW-1]), .dec(d1_rx), .status(d1_status));
     // (the answer's data is its bytes when OK or BAD_CHECKSUM)
     wire          d1_ok = (d1_status == `TWH_ST_OK) || (d1_status == `TWH_ST_BAD_CHECKSUM);
-    reg           s2_idle_go, s2_pend;
+    reg           s2_pend;
     reg [7:0]     s2_rdec;
     reg [3:0]     s2_status;
     reg           s2_ok;
@@ -474,10 +474,36 @@ module twh_engine #(
     reg [EW-2:0]  s2_e;           // the early part (without the verdict)
     wire [QE-1:0] s2_q = q_rd;    // (the queue RAM's register: read at S1)
     wire [15:0]   s2_len = t_rd;    // (the timing RAM's register: read at S1)
-    reg           s2_pr, s2_cc;
-    reg           s2_en;          // `enable`, taken at S1
+    reg           s2_cc;
     reg [QW:0]    s2_ccnt;
     reg [CTW-1:0] s2_c;
+    // What an idle channel starts is decided at S1, a clock ahead of the
+    // step whose count load and frame it steers (decided at S2, the poll's
+    // turn and the queue's count through the start into the count's load
+    // were the UP5K's longest paths at three channels). A channel may start
+    // in its idle's last period with no result waiting (s2_idle_go, kept
+    // apart: at S1 the count's compare and the flush's count in one cone
+    // made the ECP5-25F's longest path at eight channels). A due poll may
+    // go while `enable` is 1; a queued command goes unless the engine is
+    // off and it would reach the line (its skip code, or a flush's cancel,
+    // says whether); a poll goes on its turn or when no command is queued
+    // (with `enable` 1 a queued command always may go). Only the head
+    // entry's skip code comes with the step (the queue RAM's register), so
+    // a command's start is split by it: s2_sq starts it whatever its skip
+    // (enabled, or cancelled), s2_sqk only if it has one (the engine off),
+    // and s2_sqn sends it to the line unless it has one.
+    // The poll's request is taken in the clock twh_polls reads its command
+    // (scan_ch), so a poll-control write in between starts at most the
+    // poll that was due, with the command it was checked with.
+    wire          i1_go = s1_init && (st_rd[2:0] == `TWH_PH_IDLE) && (st_rd[18:4] == 15'd0) &&
+                          !st_rd[19];
+    wire          i1_en = enable;
+    wire          i1_pg = |(poll_req & at1) && (POLLING != 0) && i1_en;
+    wire          i1_ne = s1_init && (c1_cnt != {(QW+1){1'b0}});
+    wire          i1_cc = s1_init && (c1_cc != {(QW+1){1'b0}});
+    wire          i1_pf = s1_init && c_rd[C_PF];
+    wire          i1_cq = i1_ne && !(i1_pg && i1_pf);   // the head's turn
+    reg           s2_sp, s2_sq, s2_sqk, s2_sqn, s2_idle_go;
     // The word the step takes: the phase from the control word, the early
     // part from its copy, the late part from its RAM's register. In the
     // first scan after a reset the late RAM's word is not the channel's.
@@ -492,34 +518,27 @@ module twh_engine #(
         s2_v    <= !rst && s1_v;
         s2_ch   <= s1_ch;
         s2_env  <= s1_env;
-        s2_ne   <= s1_init && (c1_cnt != {(QW+1){1'b0}});
         s2_c    <= s1_init ? c_rd : CTL_RESET;
         s2_init <= s1_init;
         s2_e    <= e1;
         s2_rdec <= d1_rx;
-        // an idle channel's last period with no result waiting: it may start
-        s2_idle_go <= s1_init && (st_rd[2:0] == `TWH_PH_IDLE) && (st_rd[18:4] == 15'd0) &&
-                      !st_rd[19];
         s2_status <= d1_status;
         s2_ok   <= d1_ok;
         s2_last <= s1_init ? (st_rd[18:4] == 15'd0) : 1'b0;
         // a poll's listen ends: into twh_polls' result write, off the step
         s2_pend <= s1_init && (st_rd[2:0] == `TWH_PH_LISTEN) && (st_rd[18:4] == 15'd0) &&
                    st_rd[PL] && (POLLING != 0);
-        // what the step chooses from, taken a clock ahead (off the step's
-        // path): the poll's request, in the clock twh_polls reads its
-        // command (scan_ch), so a poll-control write in between starts at
-        // most the poll that was due, with the command it was checked with;
-        // a flush's count
-        s2_pr   <= !rst && |(poll_req & at1) && (POLLING != 0);
-        // (the enable a clock ahead too: a flip-flop of the step's own,
-        // off CTRL's fan-out, which was the UP5K's critical path)
-        s2_en   <= enable;
         // the port's command is for this channel, whose queue has room
         s2_take <= !rst && s1_v && s_cmd_valid && (s_cmd_ch == s1_ch) &&
                    !(s1_init && c_rd[C_CN + QW]);
+        // a flush's count
         s2_ccnt <= s1_init ? c1_cc : {(QW+1){1'b0}};
-        s2_cc   <= s1_init && (c1_cc != {(QW+1){1'b0}});
+        s2_cc   <= i1_cc;
+        s2_sp   <= !rst && i1_pg && (i1_pf || !i1_ne);
+        s2_idle_go <= i1_go;
+        s2_sq   <= i1_cq && (i1_en || i1_cc);
+        s2_sqk  <= i1_cq && !i1_en && !i1_cc;
+        s2_sqn  <= i1_cq && i1_en && !i1_cc;
     end
 
     // ------------------------------------------------------------ S2: the step
@@ -581,18 +600,13 @@ module twh_engine #(
     reg          s2_mine;
     wire         res_mine = s2_mine;
 
-    // What an idle channel may start (taken at S1, above). The head's skip
-    // is CANCELLED while a flush's count is left; a queued command goes
-    // unless the engine is off and it would reach the line; a due poll goes
-    // on its turn or when no command can.
+    // What an idle channel starts (decided at S1, above). The head's skip
+    // is CANCELLED while a flush's count is left.
     wire [3:0]   h_skip  = s2_cc ? `TWH_ST_CANCELLED : q_skip;
-    wire         cmd_go  = s2_ne && (s2_en || h_skip != 4'd0);
-    wire         poll_go = s2_en && s2_pr;
-    wire         use_poll = poll_go && (s2_c[C_PF] || !cmd_go);
     wire [15:0]  p_cmd   = poll_cmd;        // (twh_polls' RAM register: read at S1)
-    wire         idle_go = s2_idle_go;      // (ph == IDLE) && last && !rwait, at S1
-    wire         start_q = idle_go && !use_poll && cmd_go;    // the head entry starts
-    wire         start_p = idle_go && use_poll;               // the poll starts
+    wire         start_q = s2_idle_go && (s2_sq || (s2_sqk && q_skip != 4'd0));  // the head entry starts ...
+    wire         start_l = s2_idle_go && s2_sqn && q_skip == 4'd0;   // ... onto the line (else answered)
+    wire         start_p = s2_idle_go && s2_sp;                      // the poll starts
     wire         poll_end = s2_pend;      // (ph == LISTEN) && last && w[PL], at S1
 
     // the sequencer's step
@@ -612,16 +626,6 @@ module twh_engine #(
                     wn[21:20] = 2'b00;
                     wn[SH +: 16] = p_cmd;
                     wn[PL] = 1'b1;
-                end else if (start_q) begin
-                    if (h_skip != 4'd0) begin
-                        wn[19] = 1'b1;
-                        wn[U0 +: 16] = 16'd0;
-                        wn[RS +: 4]  = h_skip;
-                    end else begin
-                        wn[2:0]  = `TWH_PH_CHARGE;
-                        wn[18:3] = s2_len;
-                        wn[21:20] = 2'b00;
-                    end
                 end
             `TWH_PH_CHARGE:
                 if (last) begin
@@ -683,6 +687,19 @@ module twh_engine #(
                     wn[18:3] = 16'd1;
                 end
         endcase
+        // The head entry's start (an idle channel's, never with a poll's),
+        // last: the head's skip code (the queue RAM's register) decides
+        // whether it goes to the line or is answered with its skip, so it
+        // is the last choice in front of the word
+        if (start_l) begin
+            wn[2:0]  = `TWH_PH_CHARGE;
+            wn[18:3] = s2_len;
+            wn[21:20] = 2'b00;
+        end else if (start_q) begin     // with a skip: answered with it
+            wn[19] = 1'b1;
+            wn[U0 +: 16] = 16'd0;
+            wn[RS +: 4]  = h_skip;
+        end
     end
 
     // the control word's step: the port's command written at the tail
