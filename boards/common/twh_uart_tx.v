@@ -18,6 +18,8 @@ module twh_uart_tx #(
     localparam [CW-1:0] C_LAST = DIV[CW-1:0] - 1'b1;
 
     reg [CW-1:0] cnt;
+    reg          at_last;    // cnt is C_LAST: the bit's last clock (a flip-flop, so the
+                             // bit's end is not a compare in front of every enable)
     reg [3:0]    left;       // bits still to send after the current one
     reg [8:0]    shift;      // data bits and the stop bit still to send
     reg          busy;
@@ -29,6 +31,7 @@ module twh_uart_tx #(
             busy  <= 1'b0;
             tx    <= 1'b1;
             cnt   <= {CW{1'b0}};
+            at_last <= 1'b0;
             left  <= 4'd0;
             shift <= 9'h1FF;
         end else if (!busy) begin
@@ -38,11 +41,14 @@ module twh_uart_tx #(
                 shift <= {1'b1, data};
                 left  <= 4'd9;
                 cnt   <= {CW{1'b0}};
+                at_last <= (C_LAST == {CW{1'b0}});
             end
-        end else if (cnt != C_LAST) begin
+        end else if (!at_last) begin
             cnt <= cnt + 1'b1;
+            at_last <= (cnt == C_LAST - 1'b1);
         end else begin
             cnt <= {CW{1'b0}};
+            at_last <= (C_LAST == {CW{1'b0}});
             if (left == 4'd0) begin
                 busy <= 1'b0;                   // the stop bit is over
             end else begin
