@@ -491,7 +491,9 @@ module twh_engine #(
     // entry's skip code comes with the step (the queue RAM's register), so
     // a command's start is split by it: s2_sq starts it whatever its skip
     // (enabled, or cancelled), s2_sqk only if it has one (the engine off),
-    // and s2_sqn sends it to the line unless it has one.
+    // and s2_sqn sends it to the line unless it has one (s2_sq without a
+    // flush's cancel: a flip-flop of its own, so the line start is one
+    // LUT of the idle's end and the skip code).
     // The poll's request is taken in the clock twh_polls reads its command
     // (scan_ch), so a poll-control write in between starts at most the
     // poll that was due, with the command it was checked with.
