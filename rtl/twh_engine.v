@@ -482,8 +482,9 @@ module twh_engine #(
     // turn and the queue's count through the start into the count's load
     // were the UP5K's longest paths at three channels). A channel may start
     // in its idle's last period with no result waiting (s2_idle_go, kept
-    // apart: at S1 the count's compare and the flush's count in one cone
-    // made the ECP5-25F's longest path at eight channels). A due poll may
+    // apart: folded into the registers below, it made S1's decision, from
+    // the poll request's read through it, the ECP5-25F's longest path at
+    // eight channels). A due poll may
     // go while `enable` is 1; a queued command goes unless the engine is
     // off and it would reach the line (its skip code, or a flush's cancel,
     // says whether); a poll goes on its turn or when no command is queued
