@@ -484,11 +484,12 @@ module twh_engine #(
     // in its idle's last period with no result waiting (s2_idle_go, kept
     // apart: folded into the registers below, it made S1's decision, from
     // the poll request's read through it, the ECP5-25F's longest path at
-    // eight channels). A due poll may
-    // go while `enable` is 1; a queued command goes unless the engine is
-    // off and it would reach the line (its skip code, or a flush's cancel,
-    // says whether); a poll goes on its turn or when no command is queued
-    // (with `enable` 1 a queued command always may go). Only the head
+    // eight channels). A due poll may go while `enable` is 1; a queued
+    // command goes unless the engine is off and it would reach the line
+    // (its skip code, or a flush's cancel, says whether); a poll goes on
+    // its turn or when no command is queued (with `enable` 1 a queued
+    // command always may go). `enable` is taken here, into the step's own
+    // flip-flops, off CTRL's fan-out. Only the head
     // entry's skip code comes with the step (the queue RAM's register), so
     // a command's start is split by it: s2_sq starts it whatever its skip
     // (enabled, or cancelled), s2_sqk only if it has one (the engine off),
