@@ -193,7 +193,23 @@ module twh_core #(
     // clock after one); between requests its strobes are 0 and the data is
     // unused. Icarus runs every clocked block on every clock, and the idle
     // bus was most of the core's cost there.
-    wire       i_load   = rst || reg_req || q_req;
+    // The reset sweep (twh_timing, while the port is not ready) writes its
+    // words through this stage's data register too: from reset on it holds
+    // the default of the register the sweep writes next (TIMING0-2, then
+    // POLL_CTRL's reset value in the word no register uses), so neither
+    // twh_timing's memory nor twh_polls' POLL_CTRL has a multiplexer of its
+    // own in front of it (the one here is in the register's own cells).
+    wire        t_ready, t_sw_we;     // (twh_timing's, below)
+    wire [4:0]  t_sw_ch;
+    wire [1:0]  t_sw_reg;
+    wire        p_sw_we  = t_sw_we && t_sw_reg == 2'd3;    // ... POLL_CTRL's turn
+    wire       i_load   = rst || reg_req || q_req || t_sw_we;
+    wire       sw_load  = rst || t_sw_we;
+    wire [1:0] sw_nx    = rst ? 2'd0 : t_sw_reg + 2'd1;
+    wire [31:0] sw_word = (sw_nx == 2'd0) ? {`TWH_SYNC_DEF, `TWH_CHARGE_DEF} :
+                          (sw_nx == 2'd1) ? {`TWH_EXECUTE_DEF, `TWH_PREAMBLE_DEF} :
+                          (sw_nx == 2'd2) ? {`TWH_TURNAROUND_DEF, `TWH_LISTEN_DEF} :
+                                            `TWH_POLL_CTRL_DEF;
     reg        q_req, q_we, q_full, q_key_lab, q_key_fact, q_factory;
     reg        q_wr, q_rd, q_mapped, q_bad_ch;
     // Read selects, one per register a read shows (none for write-only or
@@ -228,19 +244,20 @@ module twh_core #(
                                  // copy's LUT RAM read address, ECP5's path)
     reg [31:0] q_wdata;
     wire       res_valid_next;   // the result FIFO's !empty of the next clock
-    // The data of the request, loaded only around one (see i_load).
+    // The data of the request, loaded only around one (see i_load), or the
+    // sweep's word (none of the checks on the data holds for it).
     always @(posedge clk) if (i_load) begin
         q_we       <= reg_we;
         q_full     <= (reg_wstrb == 4'hF);
         q_addr     <= reg_addr;
         q_blk      <= i_blk;
-        q_wdata    <= reg_wdata;
-        q_cmp      <= i_cmp;
-        q_cmp_nz   <= (i_cmp != 4'd0);
+        q_wdata    <= sw_load ? sw_word : reg_wdata;
+        q_cmp      <= sw_load ? 4'd0 : i_cmp;
+        q_cmp_nz   <= !sw_load && (i_cmp != 4'd0);
         q_win_p    <= i_win_p;
-        q_key_lab  <= (reg_wdata == `TWH_LAB_KEY);
-        q_key_fact <= (reg_wdata == `TWH_FACTORY_KEY);
-        q_factory  <= i_factory;
+        q_key_lab  <= !sw_load && (reg_wdata == `TWH_LAB_KEY);
+        q_key_fact <= !sw_load && (reg_wdata == `TWH_FACTORY_KEY);
+        q_factory  <= !sw_load && i_factory;
         q_bad_ch   <= !i_ch_ok;
         q_mapped   <= i_is_ch ? (i_ch_ok && reg_addr[4:2] <= 3'd6)
                               : (i_g <= R_BUSY && i_g != 5'd10);
@@ -454,11 +471,10 @@ module twh_core #(
     wire        t_wr  = q_wr_t && t_take;        // a timing write taken
     // (its reset sweep writes the pollers' registers too: SWEEP; the
     // register port waits for it, t_ready)
-    wire        t_ready, t_sw_we;
-    wire [4:0]  t_sw_ch;
     twh_timing #(.CHANNELS(CH_N), .PROG(PROG_TIMING), .NX_PHASE(1),
                  .SWEEP(POLLING != 0 ? 1 : 0)) u_timing (
-        .clk(clk), .rst(rst), .ready(t_ready), .sw_we(t_sw_we), .sw_ch(t_sw_ch), .lab(lab),
+        .clk(clk), .rst(rst), .ready(t_ready), .sw_we(t_sw_we), .sw_ch(t_sw_ch),
+        .sw_reg(t_sw_reg), .lab(lab),
         .wr(t_wr), .wr_ch(q_blk), .wr_reg(q_treg),
         .wr_data(q_wdata), .wr_cmp(q_cmp),
         .rd(q_r_t), .rd_ch(q_blk), .rd_reg(q_treg), .rd_data(t_rdata),
@@ -468,7 +484,7 @@ module twh_core #(
 
     twh_core_engine #(.CLK_HZ(CLK_HZ), .CHANNELS(CH_N), .POLLING(POLLING),
                       .PROG_TIMING(PROG_TIMING), .RAM_BLOCK(RAM_BLOCK)) u_engine (
-        .clk(clk), .rst(rst), .ms_tick(ms_tick), .sw_we(t_sw_we), .sw_ch(t_sw_ch),
+        .clk(clk), .rst(rst), .ms_tick(ms_tick), .sw_we(p_sw_we), .sw_ch(t_sw_ch),
         .tick(us_tick), .fall(us_fall), .enable(enable), .idle_charge(idle_charge[CH_N-1:0]),
         .wdata(q_wdata), .pc_wr(q_wp && wr && q_win_p), .rd_ctrl(q_r_pc),
         .rd_res(q_r_pr), .rd_state(q_r_st), .reg_ch(q_blk), .rd_data(p_rdata),
@@ -674,6 +690,31 @@ module twh_core #(
     always @(posedge clk) f_h <= 1'b1;
     // the wrappers request only while the port is ready (their own proofs)
     always @(*) if (!reg_ready) assume(!reg_req);
+`ifdef TWH_F_CORE
+    // (the stand-in jobs cut twh_timing: its sweep writes only while the
+    // port is not ready, as its own proof asserts)
+    always @(*) if (t_sw_we) assume(!t_ready);
+`else
+    // The reset sweep's contract with twh_timing and twh_polls (their
+    // proofs assume it): whenever the sweep writes, the data register
+    // holds the default of the register it writes, written out here, and
+    // no window flags; POLL_CTRL's reset value with register 3.
+    function [31:0] f_sw_def;
+        input [1:0] r;
+        case (r)
+            2'd0:    f_sw_def = {16'd1000, 16'd8000};
+            2'd1:    f_sw_def = {16'd4000, 16'd2000};
+            2'd2:    f_sw_def = {16'd2000, 16'd3000};
+            default: f_sw_def = {1'b0, 15'd1000, 8'hAA, 8'h44};
+        endcase
+    endfunction
+    reg f_swr = 1'b0;         // a reset has been seen (f_rs is declared below)
+    always @(posedge clk) if (rst) f_swr <= 1'b1;
+    always @(*) begin
+        if (f_swr && !rst && t_sw_we) assert(q_wdata == f_sw_def(t_sw_reg) && q_cmp == 4'd0);
+        if (f_swr && !rst && p_sw_we) assert(q_wdata == {1'b0, 15'd1000, 8'hAA, 8'h44});
+    end
+`endif
     always @(*) begin
         // an error comes only with its answer
         if (f_h && reg_err) assert(reg_ack);

@@ -45,6 +45,9 @@
 `define TWH_EXECUTE_DEF     16'd4000
 `define TWH_LISTEN_DEF      16'd3000
 `define TWH_TURNAROUND_DEF  16'd2000
+// POLL_CTRL's reset value where a poller is built: off, 1000 ms, the O2
+// reading (0x44, payload 0x00AA)
+`define TWH_POLL_CTRL_DEF   {1'b0, 15'd1000, 8'hAA, 8'h44}
 // ... by timing field (twh_timing's codes: 1 charge .. 6 turnaround), what a
 // build with fixed timing runs (twh_timing's fetch, twh_engine's FIXED_TIMING)
 `define TWH_FLD_DEF(f) \

@@ -29,8 +29,10 @@
 //   32-bit bypass, about 54 logic cells at every channel count).
 // - Reset: twh_timing's reset sweep names every channel in turn (sw_we,
 //   sw_ch) and POLL_CTRL and POLL_RESULT are written with their reset
-//   values; the register port takes no request and the walker does not
-//   start until the sweep is over (the timers need none: `restart`).
+//   values, POLL_CTRL's from wr_data (the core's data register holds it
+//   then: no multiplexer in front of the memory); the register port takes
+//   no request and the walker does not start until the sweep is over (the
+//   timers need none: `restart`).
 `default_nettype none
 `include "twh_defs.vh"
 module twh_polls #(
@@ -51,7 +53,7 @@ module twh_polls #(
     // the core's request stage: an accepted POLL_CTRL write, a read
     input  wire                wr,
     input  wire [CW-1:0]       wr_ch,
-    input  wire [31:0]         wr_data,
+    input  wire [31:0]         wr_data,      // ... or with sw_we POLL_CTRL's reset value
     input  wire                rd_ctrl,      // POLL_CTRL of rd_ch
     input  wire                rd_res,       // POLL_RESULT of rd_ch
     input  wire [CW-1:0]       rd_ch,
@@ -69,8 +71,6 @@ module twh_polls #(
     output reg  [CHANNELS-1:0] sample,       // a poll result arrived (one clock)
     output reg                 error         // ... and it was a link error
 );
-    localparam [31:0] CTRL_DEF = (POLLING != 0) ? {1'b0, 15'd1000, 8'hAA, 8'h44} : 32'd0;
-
     reg  [CHANNELS-1:0] due, restart;
 
     // ------------------------------------------------------------ POLL_CTRL
@@ -84,10 +84,11 @@ module twh_polls #(
     reg  [31:0]  pc_rd;
     reg  [15:0]  cm_rd;
     wire         cm_we;
-    // POLL_CTRL's write port: the bus's, or the sweep's reset value
+    // POLL_CTRL's write port: the bus's, or the sweep's reset value (both
+    // on wr_data)
     wire         pc_we = (wr || sw_we) && POLLING != 0;
     wire [CW-1:0] pc_wa = sw_we ? sw_ch : wr_ch;
-    wire [31:0]  pc_wd = sw_we ? CTRL_DEF : wr_data;
+    wire [31:0]  pc_wd = wr_data;
     reg  [15:0]  q_cmd;          // the step's: the command, the timer word, reload
     generate
         if (RAM_BLOCK != 0) begin : g_mem
@@ -271,6 +272,9 @@ module twh_polls #(
     endfunction
     always @(*) begin
         if (wr && wr_data[31]) assume(f_ro(wr_data[7:0]));
+        // the core's data register holds POLL_CTRL's reset value while the
+        // sweep writes it (twh_core:port proves it)
+        if (sw_we) assume(wr_data == {1'b0, 15'd1000, 8'hAA, 8'h44});   // (written out)
         assume(wr_ch < CHANNELS && rd_ch < CHANNELS && scan_ch < CHANNELS && p_ch < CHANNELS);
     end
     (* anyconst *) reg [CW-1:0] f_n;

@@ -19,7 +19,12 @@
 //   over). The same sweep writes the pollers' registers' reset values
 //   (`sw_we`, `sw_ch`: twh_polls). A memory written back to its defaults
 //   costs no cells a channel, where a "written since reset" flag a word
-//   and its multiplexers cost about six (docs/engine.md).
+//   and its multiplexers cost about six (docs/engine.md). The word the
+//   sweep writes is the core's: its request stage's data register holds
+//   the default of the register `sw_reg` names (and POLL_CTRL's reset
+//   value at `sw_reg` = 3, the word no register uses), so no multiplexer
+//   stands between that register and the memory's write port (36 iCE40
+//   cells, and as many again for POLL_CTRL's in twh_polls).
 // - The core's request stage writes (its verdict taken: in the window, or
 //   lab) and reads (the address in that clock, the word a clock later on
 //   rd_data, from the block RAM's own register). One request is in the
@@ -58,13 +63,14 @@ module twh_timing #(
     output wire                  ready,
     output wire                  sw_we,
     output wire [4:0]            sw_ch,
+    output wire [1:0]            sw_reg,     // ... and the register (3: POLL_CTRL's)
     input  wire                  lab,        // lengths run unclamped
     // bus write (the core's verdict taken: the value is to be stored)
     input  wire                  wr,
     input  wire [4:0]            wr_ch,      // 0 .. CHANNELS-1 (up to 32)
     input  wire [1:0]            wr_reg,     // 0-2: TIMING0-2
-    input  wire [31:0]           wr_data,
-    input  wire [3:0]            wr_cmp,     // twh_window's flags of wr_data
+    input  wire [31:0]           wr_data,    // ... or with sw_we the default sw_reg names
+    input  wire [3:0]            wr_cmp,     // twh_window's flags of wr_data (0 with sw_we)
     // bus read (rd: a read of TIMING0-2 now, the port is the bus's; the
     // word of rd_ch, rd_reg a clock later)
     input  wire                  rd,
@@ -133,10 +139,10 @@ module twh_timing #(
     assign sw_we = sw_on && !sw_n[AW];
     wire [AW-1:0] sw_a = sw_n[AW-1:0];
     assign sw_ch = {{(7-AW){1'b0}}, sw_a[AW-1:2]};
+    assign sw_reg = sw_a[1:0];
     // (the port waits for ready, so a bus write never meets the sweep)
     always @(posedge clk)
-        if (wr || sw_we) mem[sw_we ? sw_a : wa] <= sw_we ? {4'd0, def_word(sw_a[1:0])}
-                                                          : {wr_cmp, wr_data};
+        if (wr || sw_we) mem[sw_we ? sw_a : wa] <= {wr_cmp, wr_data};
     wire [31:0] rb_word = m_rd[31:0];
     // (words past TIMING2 and past the last channel are swept too, and
     // never read)
@@ -324,8 +330,11 @@ module twh_timing #(
         // a bus read names an existing channel's TIMING0-2, and a request
         // is a read or a write
         if (rd) assume(!wr && rd_reg <= 2'd2 && rd_ch < CHANNELS);
-        // the core's register port takes no request during the sweep
+        // the core's register port takes no request during the sweep,
+        // and its data register holds the default of the word swept (no
+        // window flags: the defaults lie in their windows)
         if (!ready) assume(!wr && !rd);
+        if (sw_we && sw_reg != 2'd3) assume(wr_data == f_def(sw_reg) && wr_cmp == 4'd0);
         // (a phase, NX_PHASE, is any of the eight)
         for (f_c = 0; f_c < CHANNELS; f_c = f_c + 1)
             if (NX_PHASE == 0) assume(nx_fld[f_c*3 +: 3] >= 3'd1 && nx_fld[f_c*3 +: 3] <= 3'd6);
@@ -363,6 +372,8 @@ module twh_timing #(
                 assert(mem[f_a] == (f_w ? {f_flags(f_areg, f_val), f_val}
                                         : {4'd0, f_def(f_areg)}));
             if (f_w) assert(!sw_on);
+            // (the core's stand-in jobs take this as given)
+            if (sw_we) assert(!ready);
             if (PROG == 0 && SWEEP == 0) assert(!sw_on);
             // the fetch takes every channel in turn
             assert(f_ch < CHANNELS);
