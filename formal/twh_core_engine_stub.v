@@ -38,6 +38,7 @@ module twh_core_engine #(
     input  wire                   ms_tick,
     input  wire                   sw_we,        // (the pollers' reset sweep: no pollers here)
     input  wire [4:0]             sw_ch,
+    input  wire                   sw_pc,
     input  wire                   tick,
     input  wire                   fall,
     input  wire                   enable,
@@ -187,7 +188,7 @@ module twh_core_engine #(
     end
 
     // verilator lint_off UNUSEDSIGNAL
-    wire unused = &{1'b0, ms_tick, sw_we, sw_ch, tick, fall, idle_charge, wdata, pc_wr, reg_ch,
+    wire unused = &{1'b0, ms_tick, sw_we, sw_ch, sw_pc, tick, fall, idle_charge, wdata, pc_wr, reg_ch,
                     dur_v, dur_ch, dur, dur_fld, cmd_payload, line_i, CLK_HZ[0], POLLING[0],
                     RAM_BLOCK[0]};
     // verilator lint_on UNUSEDSIGNAL

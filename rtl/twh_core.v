@@ -202,8 +202,11 @@ module twh_core #(
     wire        t_ready, t_sw_we;     // (twh_timing's, below)
     wire [4:0]  t_sw_ch;
     wire [1:0]  t_sw_reg;
-    wire        p_sw_we  = t_sw_we && t_sw_reg == 2'd3;    // ... POLL_CTRL's turn
-    wire       i_load   = rst || reg_req || q_req || t_sw_we;
+    wire        p_sw_pc  = t_sw_reg == 2'd3;    // ... POLL_CTRL's word (twh_polls)
+    wire       i_load   = rst || reg_req || q_req;
+    // (the data's load takes the sweep too, the strobes' does not: the
+    // sweep in the strobes' enable was ECP5's path into their reset)
+    wire       d_load   = i_load || t_sw_we;
     wire       sw_load  = rst || t_sw_we;
     wire [1:0] sw_nx    = rst ? 2'd0 : t_sw_reg + 2'd1;
     wire [31:0] sw_word = (sw_nx == 2'd0) ? {`TWH_SYNC_DEF, `TWH_CHARGE_DEF} :
@@ -246,7 +249,7 @@ module twh_core #(
     wire       res_valid_next;   // the result FIFO's !empty of the next clock
     // The data of the request, loaded only around one (see i_load), or the
     // sweep's word (none of the checks on the data holds for it).
-    always @(posedge clk) if (i_load) begin
+    always @(posedge clk) if (d_load) begin
         q_we       <= reg_we;
         q_full     <= (reg_wstrb == 4'hF);
         q_addr     <= reg_addr;
@@ -484,7 +487,8 @@ module twh_core #(
 
     twh_core_engine #(.CLK_HZ(CLK_HZ), .CHANNELS(CH_N), .POLLING(POLLING),
                       .PROG_TIMING(PROG_TIMING), .RAM_BLOCK(RAM_BLOCK)) u_engine (
-        .clk(clk), .rst(rst), .ms_tick(ms_tick), .sw_we(p_sw_we), .sw_ch(t_sw_ch),
+        .clk(clk), .rst(rst), .ms_tick(ms_tick), .sw_we(t_sw_we), .sw_ch(t_sw_ch),
+        .sw_pc(p_sw_pc),
         .tick(us_tick), .fall(us_fall), .enable(enable), .idle_charge(idle_charge[CH_N-1:0]),
         .wdata(q_wdata), .pc_wr(q_wp && wr && q_win_p), .rd_ctrl(q_r_pc),
         .rd_res(q_r_pr), .rd_state(q_r_st), .reg_ch(q_blk), .rd_data(p_rdata),
@@ -712,7 +716,7 @@ module twh_core #(
     always @(posedge clk) if (rst) f_swr <= 1'b1;
     always @(*) begin
         if (f_swr && !rst && t_sw_we) assert(q_wdata == f_sw_def(t_sw_reg) && q_cmp == 4'd0);
-        if (f_swr && !rst && p_sw_we) assert(q_wdata == {1'b0, 15'd1000, 8'hAA, 8'h44});
+        if (f_swr && !rst && t_sw_we && p_sw_pc) assert(q_wdata == {1'b0, 15'd1000, 8'hAA, 8'h44});
     end
 `endif
     always @(*) begin

@@ -37,6 +37,7 @@ module twh_core_engine #(
     // reset values
     input  wire                   sw_we,
     input  wire [4:0]             sw_ch,
+    input  wire                   sw_pc,     // ... its word is POLL_CTRL's
     input  wire                   tick,
     input  wire                   fall,
     input  wire                   enable,
@@ -123,6 +124,7 @@ module twh_core_engine #(
     );
     twh_polls #(.CHANNELS(CHANNELS), .POLLING(POLLING), .RAM_BLOCK(RAM_BLOCK)) u_polls (
         .clk(clk), .rst(rst), .ms_tick(ms_tick), .sw_we(sw_we), .sw_ch(sw_ch[CW-1:0]),
+        .sw_pc(sw_pc),
         .wr(pc_wr), .wr_ch(reg_ch[CW-1:0]), .wr_data(wdata),
         .rd_ctrl(rd_ctrl), .rd_res(rd_res), .rd_ch(reg_ch[CW-1:0]), .rd_data(p_rdata),
         .scan_ch(scan_ch), .poll_cmd(p_cmd), .poll_req(p_due),

@@ -29,8 +29,9 @@
 //   32-bit bypass, about 54 logic cells at every channel count).
 // - Reset: twh_timing's reset sweep names every channel in turn (sw_we,
 //   sw_ch) and POLL_CTRL and POLL_RESULT are written with their reset
-//   values, POLL_CTRL's from wr_data (the core's data register holds it
-//   then: no multiplexer in front of the memory); the register port takes
+//   values, POLL_CTRL's from wr_data in the clock of the channel's sweep
+//   that carries it (sw_pc: the core's data register holds it then, so
+//   no multiplexer stands in front of the memory); the register port takes
 //   no request and the walker does not start until the sweep is over (the
 //   timers need none: `restart`).
 `default_nettype none
@@ -50,10 +51,11 @@ module twh_polls #(
     // reset values; no bus access, poll or result comes while it runs
     input  wire                sw_we,
     input  wire [CW-1:0]       sw_ch,
+    input  wire                sw_pc,        // ... and wr_data is POLL_CTRL's reset value
     // the core's request stage: an accepted POLL_CTRL write, a read
     input  wire                wr,
     input  wire [CW-1:0]       wr_ch,
-    input  wire [31:0]         wr_data,      // ... or with sw_we POLL_CTRL's reset value
+    input  wire [31:0]         wr_data,      // ... or with sw_we and sw_pc POLL_CTRL's reset value
     input  wire                rd_ctrl,      // POLL_CTRL of rd_ch
     input  wire                rd_res,       // POLL_RESULT of rd_ch
     input  wire [CW-1:0]       rd_ch,
@@ -86,7 +88,7 @@ module twh_polls #(
     wire         cm_we;
     // POLL_CTRL's write port: the bus's, or the sweep's reset value (both
     // on wr_data)
-    wire         pc_we = (wr || sw_we) && POLLING != 0;
+    wire         pc_we = (wr || (sw_we && sw_pc)) && POLLING != 0;
     wire [CW-1:0] pc_wa = sw_we ? sw_ch : wr_ch;
     wire [31:0]  pc_wd = wr_data;
     reg  [15:0]  q_cmd;          // the step's: the command, the timer word, reload
@@ -274,14 +276,15 @@ module twh_polls #(
         if (wr && wr_data[31]) assume(f_ro(wr_data[7:0]));
         // the core's data register holds POLL_CTRL's reset value while the
         // sweep writes it (twh_core:port proves it)
-        if (sw_we) assume(wr_data == {1'b0, 15'd1000, 8'hAA, 8'h44});   // (written out)
+        if (sw_we && sw_pc) assume(wr_data == {1'b0, 15'd1000, 8'hAA, 8'h44});   // (written out)
         assume(wr_ch < CHANNELS && rd_ch < CHANNELS && scan_ch < CHANNELS && p_ch < CHANNELS);
     end
     (* anyconst *) reg [CW-1:0] f_n;
     always @(*) assume(f_n < CHANNELS);
     // the reset sweep, as twh_timing runs it and the core waits for it: on
     // from reset until it ends, then never again before a reset; every
-    // channel named before it ends; no bus access, poll or result while it
+    // channel named with POLL_CTRL's word (sw_pc) before it ends; no bus
+    // access, poll or result while it
     // runs (any order, any length: more than the real sweep's)
     reg                f_swo;
     reg [CHANNELS-1:0] f_swd;
@@ -293,7 +296,7 @@ module twh_polls #(
         end else begin
             if (!sw_we) f_swo <= 1'b0;
             for (f_i = 0; f_i < CHANNELS; f_i = f_i + 1)
-                if (sw_we && sw_ch == f_i) f_swd[f_i] <= 1'b1;
+                if (sw_we && sw_pc && sw_ch == f_i) f_swd[f_i] <= 1'b1;
         end
     end
     always @(*) begin
