@@ -193,19 +193,19 @@ module twh_core #(
     // clock after one); between requests its strobes are 0 and the data is
     // unused. Icarus runs every clocked block on every clock, and the idle
     // bus was most of the core's cost there.
+    wire       i_load   = rst || reg_req || q_req;
     // The reset sweep (twh_timing, while the port is not ready) writes its
     // words through this stage's data register too: from reset on it holds
     // the default of the register the sweep writes next (TIMING0-2, then
     // POLL_CTRL's reset value in the word no register uses), so neither
     // twh_timing's memory nor twh_polls' POLL_CTRL has a multiplexer of its
     // own in front of it (the one here is in the register's own cells).
+    // The data's load takes the sweep too, the strobes' does not: the
+    // sweep in the strobes' enable was ECP5's path into their reset.
     wire        t_ready, t_sw_we;     // (twh_timing's, below)
     wire [4:0]  t_sw_ch;
     wire [1:0]  t_sw_reg;
     wire        p_sw_pc  = t_sw_reg == 2'd3;    // ... POLL_CTRL's word (twh_polls)
-    wire       i_load   = rst || reg_req || q_req;
-    // (the data's load takes the sweep too, the strobes' does not: the
-    // sweep in the strobes' enable was ECP5's path into their reset)
     wire       d_load   = i_load || t_sw_we;
     wire       sw_load  = rst || t_sw_we;
     wire [1:0] sw_nx    = rst ? 2'd0 : t_sw_reg + 2'd1;

@@ -284,8 +284,8 @@ module twh_polls #(
     // the reset sweep, as twh_timing runs it and the core waits for it: on
     // from reset until it ends, then never again before a reset; every
     // channel named with POLL_CTRL's word (sw_pc) before it ends; no bus
-    // access, poll or result while it
-    // runs (any order, any length: more than the real sweep's)
+    // access, poll or result while it runs (any order, any length: more
+    // than the real sweep's)
     reg                f_swo;
     reg [CHANNELS-1:0] f_swd;
     integer            f_i;

@@ -23,8 +23,8 @@
 //   sweep writes is the core's: its request stage's data register holds
 //   the default of the register `sw_reg` names (and POLL_CTRL's reset
 //   value at `sw_reg` = 3, the word no register uses), so no multiplexer
-//   stands between that register and the memory's write port (36 iCE40
-//   cells, and as many again for POLL_CTRL's in twh_polls).
+//   stands between that register and the memory's write port (a LUT a
+//   bit on the iCE40s, here and in front of POLL_CTRL's in twh_polls).
 // - The core's request stage writes (its verdict taken: in the window, or
 //   lab) and reads (the address in that clock, the word a clock later on
 //   rd_data, from the block RAM's own register). One request is in the
