@@ -73,7 +73,9 @@ module tb_link #(
     // inputs one register per clock, with their window flags from the
     // core's twh_window, and cfg_unlock as the lab unlock.
     // (written for three clocks after a change of cfg_* or the end of a
-    // reset's sweep, which writes the defaults: a memory write every clock
+    // reset's sweep, which writes what wr_data carries, the cfg_* words
+    // here, not the defaults as the core's data register gives them: the
+    // three writes come before any command; a memory write every clock
     // costs the simulation dearly, and so does comparing the lengths every
     // clock; a change is seen by t_chg, which toggles only when one of them
     // moves). As the core's register port, the command port waits for the
@@ -117,7 +119,7 @@ module tb_link #(
     wire [4:0]  dur_ch;
     wire [31:0] t_rd_unused;
     twh_timing #(.CHANNELS(1)) u_timing (
-        .clk(clk), .rst(rst), .ready(t_ready), .sw_we(), .sw_ch(), .lab(cfg_unlock),
+        .clk(clk), .rst(rst), .ready(t_ready), .sw_we(), .sw_ch(), .sw_reg(), .lab(cfg_unlock),
         .wr(t_wr), .wr_ch(5'd0), .wr_reg(t_reg), .wr_data(t_word), .wr_cmp(t_cmp),
         .rd(1'b0), .rd_ch(5'd0), .rd_reg(2'd0), .rd_data(t_rd_unused),
         .nx_fld(nx_fld), .dur_we(dur_we), .dur_v(dur_v), .dur_ch(dur_ch), .dur(dur),

@@ -44,8 +44,9 @@ module tb_link_smoke;
     wire line_i = line_oe ? line_o : 1'b0;
 
     // the phase lengths from twh_timing, never written: the defaults (its
-    // reset sweep writes them; the command waits for it, as the core's
-    // register port does)
+    // reset sweep writes them, the word on wr_data the default of the
+    // register it names, as the core's data register holds it; the
+    // command waits for the sweep, as the core's register port does)
     wire [2:0]  nx_fld, dur_fld;
     wire [15:0] dur;
     wire        dur_we, dur_v;
@@ -53,9 +54,14 @@ module tb_link_smoke;
     wire [31:0] t_rd_unused;
     wire        t_ready, s_ready_e;
     assign      s_cmd_ready = s_ready_e && t_ready;
+    wire [1:0]  t_sw_reg;
+    wire [31:0] t_sw_word = (t_sw_reg == 2'd0) ? {`TWH_SYNC_DEF, `TWH_CHARGE_DEF} :
+                            (t_sw_reg == 2'd1) ? {`TWH_EXECUTE_DEF, `TWH_PREAMBLE_DEF} :
+                                                 {`TWH_TURNAROUND_DEF, `TWH_LISTEN_DEF};
     twh_timing #(.CHANNELS(1)) u_timing (
-        .clk(clk), .rst(rst), .ready(t_ready), .sw_we(), .sw_ch(), .lab(1'b0),
-        .wr(1'b0), .wr_ch(5'd0), .wr_reg(2'd0), .wr_data(32'd0), .wr_cmp(4'd0),
+        .clk(clk), .rst(rst), .ready(t_ready), .sw_we(), .sw_ch(), .sw_reg(t_sw_reg),
+        .lab(1'b0),
+        .wr(1'b0), .wr_ch(5'd0), .wr_reg(2'd0), .wr_data(t_sw_word), .wr_cmp(4'd0),
         .rd(1'b0), .rd_ch(5'd0), .rd_reg(2'd0), .rd_data(t_rd_unused),
         .nx_fld(nx_fld), .dur_we(dur_we), .dur_v(dur_v), .dur_ch(dur_ch), .dur(dur),
         .dur_fld(dur_fld)
