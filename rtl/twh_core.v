@@ -209,9 +209,9 @@ module twh_core #(
     wire       d_load   = i_load || t_sw_we;
     wire       sw_load  = rst || t_sw_we;
     wire [1:0] sw_nx    = rst ? 2'd0 : t_sw_reg + 2'd1;
-    wire [31:0] sw_word = (sw_nx == 2'd0) ? {`TWH_SYNC_DEF, `TWH_CHARGE_DEF} :
-                          (sw_nx == 2'd1) ? {`TWH_EXECUTE_DEF, `TWH_PREAMBLE_DEF} :
-                          (sw_nx == 2'd2) ? {`TWH_TURNAROUND_DEF, `TWH_LISTEN_DEF} :
+    wire [31:0] sw_word = (sw_nx == 2'd0) ? `TWH_TIMING0_DEF :
+                          (sw_nx == 2'd1) ? `TWH_TIMING1_DEF :
+                          (sw_nx == 2'd2) ? `TWH_TIMING2_DEF :
                                             `TWH_POLL_CTRL_DEF;
     reg        q_req, q_we, q_full, q_key_lab, q_key_fact, q_factory;
     reg        q_wr, q_rd, q_mapped, q_bad_ch;

@@ -45,6 +45,10 @@
 `define TWH_EXECUTE_DEF     16'd4000
 `define TWH_LISTEN_DEF      16'd3000
 `define TWH_TURNAROUND_DEF  16'd2000
+// ... as TIMING0-2 hold them (each register's low field in bits 15:0)
+`define TWH_TIMING0_DEF     {`TWH_SYNC_DEF, `TWH_CHARGE_DEF}
+`define TWH_TIMING1_DEF     {`TWH_EXECUTE_DEF, `TWH_PREAMBLE_DEF}
+`define TWH_TIMING2_DEF     {`TWH_TURNAROUND_DEF, `TWH_LISTEN_DEF}
 // POLL_CTRL's reset value where a poller is built: off, 1000 ms, the O2
 // reading (0x44, payload 0x00AA)
 `define TWH_POLL_CTRL_DEF   {1'b0, 15'd1000, 8'hAA, 8'h44}

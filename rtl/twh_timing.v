@@ -88,9 +88,9 @@ module twh_timing #(
     output reg  [15:0]           dur,
     output reg  [2:0]            dur_fld
 );
-    localparam [31:0] DEF0 = {`TWH_SYNC_DEF, `TWH_CHARGE_DEF};
-    localparam [31:0] DEF1 = {`TWH_EXECUTE_DEF, `TWH_PREAMBLE_DEF};
-    localparam [31:0] DEF2 = {`TWH_TURNAROUND_DEF, `TWH_LISTEN_DEF};
+    localparam [31:0] DEF0 = `TWH_TIMING0_DEF;
+    localparam [31:0] DEF1 = `TWH_TIMING1_DEF;
+    localparam [31:0] DEF2 = `TWH_TIMING2_DEF;
     function [31:0] def_word;
         input [1:0] r;
         def_word = (r == 2'd0) ? DEF0 : (r == 2'd1) ? DEF1 : DEF2;

@@ -55,9 +55,8 @@ module tb_link_smoke;
     wire        t_ready, s_ready_e;
     assign      s_cmd_ready = s_ready_e && t_ready;
     wire [1:0]  t_sw_reg;
-    wire [31:0] t_sw_word = (t_sw_reg == 2'd0) ? {`TWH_SYNC_DEF, `TWH_CHARGE_DEF} :
-                            (t_sw_reg == 2'd1) ? {`TWH_EXECUTE_DEF, `TWH_PREAMBLE_DEF} :
-                                                 {`TWH_TURNAROUND_DEF, `TWH_LISTEN_DEF};
+    wire [31:0] t_sw_word = (t_sw_reg == 2'd0) ? `TWH_TIMING0_DEF :
+                            (t_sw_reg == 2'd1) ? `TWH_TIMING1_DEF : `TWH_TIMING2_DEF;
     twh_timing #(.CHANNELS(1)) u_timing (
         .clk(clk), .rst(rst), .ready(t_ready), .sw_we(), .sw_ch(), .sw_reg(t_sw_reg),
         .lab(1'b0),
