@@ -94,10 +94,12 @@ module twh_core_engine #(
     wire [15:0]            p_data;
     wire [3:0]             p_status;
     wire [11:0]            p_count;
-    wire [CHANNELS-1:0]    e_busy, e_pending;
+    wire [CHANNELS-1:0]    e_busy;
     wire [CHANNELS*3-1:0]  e_phase;
+    wire                   st_pend;       // SLOT_FULL of reg_ch
     // verilator lint_off UNUSEDSIGNAL
     wire [CHANNELS*3-1:0]  e_fld;         // (twh_timing decodes it from the phase)
+    wire [CHANNELS-1:0]    e_pending;     // (STATE reads it through st_pend)
     // verilator lint_on UNUSEDSIGNAL
     wire [CW-1:0]          r_ch;
     wire [7:0]             r_code;
@@ -117,7 +119,8 @@ module twh_core_engine #(
         .m_res_valid(res_valid), .m_res_ready(res_ready), .m_res_ch(r_ch),
         .m_res_code(r_code), .m_res_data(r_data), .m_res_status(r_status), .m_res_tag(r_tag),
         .line_o(line_o), .line_oe(line_oe), .line_i(line_i),
-        .busy(e_busy), .pending(e_pending), .cancelling(cancelling),
+        .busy(e_busy), .pending(e_pending), .st_ch(reg_ch[CW-1:0]), .st_pend(st_pend),
+        .cancelling(cancelling),
         .phase(e_phase), .fld(e_fld),
         .p_take(p_take), .p_res(p_res), .p_ch(p_ch), .p_data(p_data), .p_status(p_status),
         .p_count(p_count)
@@ -144,23 +147,26 @@ module twh_core_engine #(
 
     // STATE of the channel read, a clock after the request stage (as
     // twh_polls answers POLL_CTRL and POLL_RESULT): one multiplexer over
-    // the channels rather than a select flip-flop and an AND-OR term each
+    // the channels' phases rather than a select flip-flop and an AND-OR
+    // term each; the pending flag is the engine's st_pend, which keeps the
+    // command going in off that multiplexer
     localparam integer CN = 1 << CW;
     assign nx_ph = e_phase;
-    wire [CN*4-1:0] st_w;       // {pending, phase} a channel
+    wire [CN*3-1:0] st_w;       // each channel's phase
     reg  [3:0]      st_q;
     wire [31:0]     p_rdata;
-    always @(posedge clk) st_q <= (rst || !rd_state) ? 4'd0 : st_w[reg_ch[CW-1:0]*4 +: 4];
+    always @(posedge clk)
+        st_q <= (rst || !rd_state) ? 4'd0 : {st_pend, st_w[reg_ch[CW-1:0]*3 +: 3]};
     // STATE: SLOT_FULL, BUSY (a transaction: not idle), PHASE
     assign rd_data = p_rdata | {27'd0, st_q[3], st_q[2:0] != `TWH_PH_IDLE, st_q[2:0]};
 
     genvar n;
     generate
         if (CHANNELS < CN) begin : g_pad
-            assign st_w[CN*4-1:CHANNELS*4] = {((CN-CHANNELS)*4){1'b0}};
+            assign st_w[CN*3-1:CHANNELS*3] = {((CN-CHANNELS)*3){1'b0}};
         end
         for (n = 0; n < CHANNELS; n = n + 1) begin : g_ch
-            assign st_w[n*4 +: 4] = {e_pending[n], e_phase[n*3 +: 3]};
+            assign st_w[n*3 +: 3] = e_phase[n*3 +: 3];
             // (the engine's busy counts a transaction on the line, a poll's
             // too, and a result still waiting in the channel: it clears
             // at the visit's write, a clock after the result went into the

@@ -134,6 +134,11 @@ module twh_engine #(
     output wire [CHANNELS-1:0] busy,           // a command queued or running, or a
                                                // transaction on the line (a poll's too)
     output wire [CHANNELS-1:0] pending,        // a queued command not started yet
+    // pending[st_ch] for STATE's read: the same flag, with the command
+    // going in compared by channel rather than multiplexed (st_ch below
+    // CHANNELS)
+    input  wire [CW-1:0]       st_ch,
+    output wire                st_pend,
     output wire                cancelling,     // a flush's cancels are still to come
     output wire [CHANNELS*3-1:0] phase,        // each channel's phase as its last visit left it
     output wire [CHANNELS*3-1:0] fld,          // the timing field its next phase loads
@@ -804,6 +809,14 @@ module twh_engine #(
     assign cancelling = (fpend != {CN{1'b0}}) || (cz_m != {CN{1'b0}}) ||
                         (s2_v && s2_cc) || (s3_v && s3_cc);
 
+    // STATE's pending flag of one channel: the offered command's take
+    // (ins) reaches the read's register through a compare and an OR, not
+    // through i_n and a multiplexer over every channel, which at 32
+    // channels was the HX8K's longest path (ins is the visit's at S2,
+    // s3_ins the one a clock on: what i_n marks, by channel number)
+    wire [CN-1:0] pend_p;
+    assign st_pend = pend_p[st_ch] || (ins && s2_ch == st_ch) || (s3_v && s3_ins && s3_ch == st_ch);
+
     // ------------------------------------------------------------ per channel
     wire s3_busy = (s3_ctl[C_CN +: QW+1] != {(QW+1){1'b0}}) || (s3_word[2:0] != `TWH_PH_IDLE);
     wire s3_pend = s3_ctl[C_CN +: QW+1] != {{QW{1'b0}}, s3_ctl[C_AC]};
@@ -850,10 +863,12 @@ module twh_engine #(
                 assign pin_we[n]  = sc[n+4];
                 assign busy[n]    = busy_m[n] || i_n;
                 assign pending[n] = pend_m[n] || i_n;
+                assign pend_p[n]  = pend_m[n];
                 assign phase[n*3 +: 3] = ph_q[n*3 +: 3];
                 assign fld[n*3 +: 3] = fld_of(ph_q[n*3 +: 3]);
             end else begin : g_off
                 // indices past the last channel (CHANNELS not a power of two)
+                assign pend_p[n] = 1'b0;
                 always @(posedge clk) begin
                     cz_m[n]        <= 1'b0;
                     fpend[n]       <= 1'b0;
@@ -1216,6 +1231,8 @@ module twh_engine #(
             if ($past(ins && s2_ch == f_ch)) assert(busy[f_ch] && pending[f_ch]);
         end
     end
+    // STATE's read of any channel is its pending flag
+    always @(*) if (f_ok && !rst && st_ch < CHANNELS) assert(st_pend == pending[st_ch]);
     always @(*) begin
         if (f_ok && !rst) begin
             // the result of the tracked entry: its code and tag (handed

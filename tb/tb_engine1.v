@@ -37,7 +37,7 @@ module tb_engine1 #(
     output wire             pin_hi
 );
     wire        scan_unused, res_ch_unused, p_take_unused, p_res_unused, p_ch_unused;
-    wire        pending_unused, cancelling_unused;
+    wire        pending_unused, st_pend_unused, cancelling_unused;
     wire [15:0] p_data_unused;
     wire [3:0]  p_status_unused;
     wire [11:0] p_count_unused;
@@ -53,14 +53,14 @@ module tb_engine1 #(
         .m_res_code(m_res_code), .m_res_data(m_res_data),
         .m_res_status(m_res_status), .m_res_tag(m_res_tag),
         .line_o(line_o), .line_oe(line_oe), .line_i(line_i),
-        .busy(busy), .pending(pending_unused),
+        .busy(busy), .pending(pending_unused), .st_ch(1'b0), .st_pend(st_pend_unused),
         .cancelling(cancelling_unused), .phase(phase), .fld(fld),
         .p_take(p_take_unused), .p_res(p_res_unused), .p_ch(p_ch_unused),
         .p_data(p_data_unused), .p_status(p_status_unused), .p_count(p_count_unused)
     );
     assign pin_hi = dut.g_ch[0].g_on.u_pin.now_w;
     // verilator lint_off UNUSEDSIGNAL
-    wire unused = &{1'b0, scan_unused, res_ch_unused, pending_unused,
+    wire unused = &{1'b0, scan_unused, res_ch_unused, pending_unused, st_pend_unused,
                     cancelling_unused, p_take_unused, p_res_unused, p_ch_unused,
                     p_data_unused, p_status_unused, p_count_unused};
     // verilator lint_on UNUSEDSIGNAL

@@ -37,6 +37,7 @@ module twh_engine_bench #(
     wire [CHANNELS-1:0] busy;
     wire [CHANNELS*3-1:0] phase;
     wire [CHANNELS-1:0] pending;
+    wire          st_pend;
     wire          p_take, p_res;
     wire [CW-1:0] p_ch;
     wire [15:0]   p_data;
@@ -54,17 +55,18 @@ module twh_engine_bench #(
         .m_res_valid(rv), .m_res_ready(sr[SW-1]), .m_res_ch(rch), .m_res_code(rcode),
         .m_res_data(rdata), .m_res_status(rst_s), .m_res_tag(rtag),
         .line_o(line_o), .line_oe(line_oe), .line_i(line_i), .busy(busy),
-        .phase(phase), .pending(pending), .cancelling(), .fld(),
+        .phase(phase), .pending(pending), .st_ch(sr[CW-1:0]), .st_pend(st_pend),
+        .cancelling(), .fld(),
         .p_take(p_take), .p_res(p_res), .p_ch(p_ch), .p_data(p_data), .p_status(p_status), .p_count(p_count)
     );
     // every output registered before the fold, so the fold's XOR tree is
     // no path of the engine's
     localparam integer OW = 1 + 1 + CW + 8 + 8 + 16 + 4 + CHANNELS + CHANNELS * 3 +
-                            CHANNELS + 2 + CW + 16 + 4 + 12;
+                            CHANNELS + 1 + 2 + CW + 16 + 4 + 12;
     reg [OW-1:0] outs;
     always @(posedge clk) begin
         outs <= {ready, rv, rch, rcode, rtag, rdata, rst_s, busy, phase,
-                 pending, p_take, p_res, p_ch, p_data, p_status, p_count};
+                 pending, st_pend, p_take, p_res, p_ch, p_data, p_status, p_count};
         sout <= ^outs;
     end
 endmodule
