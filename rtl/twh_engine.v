@@ -446,10 +446,21 @@ module twh_engine #(
     // being empty, nor the length, the reset word's idle having periods
     // left.
     // a flush since the channel's last visit (or in this clock) cancels
-    // what its queue holds and has not started; else the count left stands
+    // what its queue holds and has not started; else the count left stands.
+    // The channel's flag is taken a clock ahead, at S0, so the AND-OR of
+    // every channel's flag and the scan's mark ends in a flip-flop rather
+    // than in S1's decisions (at 32 channels on the HX8K and at eight on
+    // the ECP5-25F, from the scan's bit through the flags into the start,
+    // among the longest paths). A flush in S0's clock sets it even when the
+    // channel had nothing to cancel then: a queue takes a command only at
+    // its own visit's S2, so it has none by S1 either, and the count is
+    // the same, 0 (its count left is 0 too: never more than the entries
+    // not started).
+    reg           s1_fl;
+    always @(posedge clk) s1_fl <= !rst && (|(fpend[CHANNELS-1:0] & at0) || cancel);
     wire [QW:0]   c1_cnt = c_rd[C_CN +: QW+1];
-    wire [QW:0]   c1_cc  = (|(fpend[CHANNELS-1:0] & at1) || cancel) ? c1_cnt - {{QW{1'b0}}, c_rd[C_AC]}
-                                                    : c_rd[C_CC +: QW+1];
+    wire [QW:0]   c1_cc  = (s1_fl || cancel) ? c1_cnt - {{QW{1'b0}}, c_rd[C_AC]}
+                                             : c_rd[C_CC +: QW+1];
     reg           s2_v, s2_env, s2_last;
     // the word as S1 has it: the early part, the phase from the control
     // word, no data bits
@@ -1172,6 +1183,10 @@ module twh_engine #(
     always @(*) begin
         if (f_ok && !rst) begin
             if (fpend[f_ch]) assert(f_fl);
+            // S1's copy of the flag: set with the channel's own, and
+            // otherwise only by a flush that found nothing to cancel
+            if (s1_v && s1_ch == f_ch && fpend[f_ch]) assert(s1_fl);
+            if (s1_v && s1_ch == f_ch && s1_fl && !fpend[f_ch]) assert(!pend_m[f_ch]);
             if (s2_v && s2_ch == f_ch && f_fl2)
                 assert(s2_ccnt == f_qcnt - {{QW{1'b0}}, f_act});
         end
