@@ -268,7 +268,9 @@ module twh_engine #(
             s0_ch <= {CW{1'b0}};
         end else if (s0_v) begin
             s0_v  <= (s0_ch != LAST_CH);
-            s0_ch <= s0_ch + 1'b1;
+            // (one channel: s0_ch stays 0, so every stage's channel is a
+            // constant and the channel compares and addresses go)
+            if (CHANNELS > 1) s0_ch <= s0_ch + 1'b1;
         end
     end
 

@@ -179,7 +179,7 @@ module twh_polls #(
             end else begin
                 w_s <= 2'd0;
                 if (commit) begin
-                    w_ch <= w_ch + 1'b1;
+                    if (CHANNELS > 1) w_ch <= w_ch + 1'b1;   // (one: stays 0)
                     if (w_ch == LAST) w_on <= 1'b0;
                 end
             end
