@@ -408,7 +408,7 @@ module twh_rx (
     // outputs, so every property above, and task uart's, holds of it.
     reg  [`TWH_RX_W-1:0] e_w;
     wire [`TWH_RX_W-1:0] e_n;
-    wire [7:0] e_dec;
+    wire [8:0] e_dec;
     wire [3:0] e_status;
     wire       e_sum;
     twh_rx_sum  e_c (.rx(e_w), .ok(e_sum));

@@ -309,10 +309,19 @@ module twh_engine #(
     wire [EW-1:0] e_rd;
     wire [LW-1:0] l_rd;
     reg  [W-1:0]  s3_word;
-    wire          s3_sum;       // its data bits carry a good checksum
+    // The verdict stored with a word is that of the data bits the visit
+    // read (the previous write's), taken at S2 from the late part's RAM
+    // register into a flip-flop: at S3, from the new word, its adder stood
+    // between S3's register and the state RAM's write data (the ECP5-25F's
+    // one-channel path). It is the new word's own whenever it is read: only
+    // an answer of three characters (twh_rx_dec's `full`) reads it, and the
+    // step that makes the third character and every step after it leave the
+    // data bits as they were (twh_rx_step: a stop bit, then done). In the
+    // first scan after a reset the late part is not the channel's, and
+    // the verdict is 0.
+    reg           s3_sum;
     reg           s3_v;
     reg  [CW-1:0] s3_ch;
-    twh_rx_sum u_sum (.rx(s3_word[U0 +: UW]), .ok(s3_sum));
     wire [EW-1:0] s3_e = {s3_sum, `TWH_E_OF(s3_word)};
     wire [LW-1:0] s3_l = `TWH_L_OF(s3_word);
     twh_ram #(.W(EW), .AW(CW), .BLOCK(RAM_BLOCK)) u_state (
@@ -477,14 +486,14 @@ module twh_engine #(
     // the receiver's decodes and the answer's verdict, a clock ahead of
     // the step (off its path); only a word in listen uses them, and that
     // word is always the RAM's (the reset word is idle)
-    wire [7:0]    d1_rx;
+    wire [8:0]    d1_rx;
     wire [3:0]    d1_status;
     twh_rx_dec u_rdec (.rx(st_rd[U0 +: UW]), .sync_low(st_rd[20]), .pre_high(st_rd[21]),
                        .sum_ok(e_rd[EW-1]), .dec(d1_rx), .status(d1_status));
     // (the answer's data is its bytes when OK or BAD_CHECKSUM)
     wire          d1_ok = (d1_status == `TWH_ST_OK) || (d1_status == `TWH_ST_BAD_CHECKSUM);
     reg           s2_pend;
-    reg [7:0]     s2_rdec;
+    reg [8:0]     s2_rdec;
     reg [3:0]     s2_status;
     reg           s2_ok;
     reg [CW-1:0]  s2_ch;
@@ -574,6 +583,8 @@ module twh_engine #(
     wire         w_pl  = s2_e[EW-6];                          // w[PL]
     wire [19:0]  w_sh  = l_rd[19:0];                          // w[SH +: 20]
     wire [UW-1:0] w_rx = {s2_e[EW-7 : SH-3], l_rd[23:0]};    // w[U0 +: UW]
+    wire          r_sum;          // its data bits carry a good checksum
+    twh_rx_sum u_sum (.rx(w_rx), .ok(r_sum));
     wire         last  = s2_last;       // cnt <= 1: this period is the phase's last
     wire         env   = s2_env;
 
@@ -765,6 +776,7 @@ module twh_engine #(
         s3_v      <= !rst && s2_v;
         s3_ch     <= s2_ch;
         s3_word   <= wn;
+        s3_sum    <= s2_init && r_sum;
         if (!s2_init) begin
             s3_word[CT +: 8]  <= 8'd0;
             s3_word[SH +: 24] <= 24'd0;
@@ -978,7 +990,7 @@ module twh_engine #(
     // decodes against twh_rx)
     // (the verdict of its data bits, which the step reads from the late
     // part's RAM: the one stored with its early part is theirs)
-    wire [7:0] f_rdec;
+    wire [8:0] f_rdec;
     wire [3:0] f_rstatus;
     wire       f_rsum;
     twh_rx_sum f_rx_sum (.rx(s2_w[U0 +: UW]), .ok(f_rsum));
@@ -992,10 +1004,12 @@ module twh_engine #(
     // the shadow: the word the tracked channel's last visit wrote
     reg [W-1:0] f_w;
     reg         f_wr;
+    reg         f_vs;           // ... and the verdict written with it
     always @(posedge clk) begin
         if (rst) f_wr <= 1'b0;
         else if (s3_v && s3_ch == f_ch) begin
             f_w  <= s3_word;
+            f_vs <= s3_sum;
             f_wr <= 1'b1;
         end
     end
@@ -1006,9 +1020,13 @@ module twh_engine #(
     always @(posedge clk) if (s3_v && s3_ch == f_ch) f_c <= s3_ctl;
     wire [CTW-1:0] f_cc = f_wr ? f_c : CTL_RESET;
     wire [2:0]   f_ph  = f_cur[2:0];
-    // the early part the RAM holds for the shadow word: with its verdict
-    wire         f_wsum;
+    // the early part the RAM holds for the shadow word: with the verdict
+    // written with it, which is its data bits' own once the answer has its
+    // three characters (the only word that reads it); so is the one on its
+    // way to the write
+    wire         f_wsum, f_s3sum;
     twh_rx_sum f_w_sum (.rx(f_w[U0 +: UW]), .ok(f_wsum));
+    twh_rx_sum f_s3_sum (.rx(s3_word[U0 +: UW]), .ok(f_s3sum));
     // the late part: the first scan after a reset takes the late RAM's
     // word (the step from idle does not read it; its write clears it), so
     // until the tracked channel's first write the step's word is the
@@ -1071,7 +1089,10 @@ module twh_engine #(
             if (s2_v && s2_ch == f_ch) assert(!(s3_v && s3_ch == f_ch));
             // the RAM's word for the tracked channel is the shadow
             if (s1_v && s1_ch == f_ch) assert(s1_init == f_wr);
-            if (s1_v && s1_ch == f_ch && f_wr) assert(e_rd == {f_wsum, `TWH_E_OF(f_w)});
+            if (s1_v && s1_ch == f_ch && f_wr) assert(e_rd == {f_vs, `TWH_E_OF(f_w)});
+            if (f_wr && f_ph == `TWH_PH_LISTEN && f_w[NB +: 2] == 2'd3) assert(f_vs == f_wsum);
+            if (s3_v && s3_word[2:0] == `TWH_PH_LISTEN && s3_word[NB +: 2] == 2'd3)
+                assert(s3_sum == f_s3sum);
             if (s2_v && s2_ch == f_ch) assert((s2_w | f_dc) == (f_cur | f_dc) &&
                                               s2_last == (f_cur[18:4] == 15'd0));
             // (taken at S1 from the same word)

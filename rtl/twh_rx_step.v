@@ -11,7 +11,7 @@
 `include "twh_defs.vh"
 module twh_rx_step (
     input  wire [`TWH_RX_W-1:0] rx,
-    input  wire [7:0]           dec,
+    input  wire [8:0]           dec,
     input  wire                 env,
     output reg  [`TWH_RX_W-1:0] rx_n
 );
@@ -25,6 +25,9 @@ module twh_rx_step (
     wire        bit_val = ({1'b0, vt} + {2'b00, env}) >= 3'd2;
     always @(*) begin
         rx_n = rx;
+        // a data bit (dec[8]: not done, in a character, at the bit's
+        // verdict, neither its start nor its stop bit)
+        if (dec[8]) rx_n[`TWH_RX_SH +: 24] = {bit_val, sh[23:1]};
         if (!dec[0]) begin
             rx_n[`TWH_RX_MK +: 5] = !env ? 5'd0 : dec[2] ? mk : mk + 5'd1;
             if (!ac) begin
@@ -42,9 +45,8 @@ module twh_rx_step (
                     if (dec[6]) begin
                         // a false start; else the character goes on
                         if (bit_val) rx_n[`TWH_RX_AC] = 1'b0;
-                    end else if (!dec[7]) begin
-                        rx_n[`TWH_RX_SH +: 24] = {bit_val, sh[23:1]};
-                    end else begin
+                    end else if (dec[7]) begin
+                        // the stop bit (a data bit is dec[8]'s, above)
                         rx_n[`TWH_RX_AC] = 1'b0;
                         if (bit_val)              rx_n[`TWH_RX_NB +: 2] = nb + 2'd1;
                         else if (sh[23:16] == 8'd0) rx_n[`TWH_RX_EN] = 1'b1;
