@@ -216,7 +216,7 @@ def vs_goal(what, value, goal, unit, at_most=True, why=None):
                f"{'<=' if at_most else '>='} {goal} {unit} | |"
     off = value - goal if at_most else goal - value
     how = (f"{'over' if at_most else 'short'} by {num(off, unit)} {unit}" if off > 0
-           else f"met, {num(-off, unit)} {unit} to spare")
+           else f"met, {num(abs(off), unit)} {unit} to spare")
     return (f"| {what} | {num(value, unit)} {unit} | {'<=' if at_most else '>='} {goal} {unit} | "
             f"{how} |")
 
