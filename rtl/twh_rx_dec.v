@@ -43,13 +43,16 @@ module twh_rx_dec (
     assign dec[1] = (nb != 2'd0) || (mk == 5'd16);
     assign dec[2] = mk == 5'd16;
     assign dec[3] = (sub == 5'd11) || (sub == 5'd15);
-    assign dec[4] = sub == 5'd19;
+    wire   vrd    = sub == 5'd19;       // the bit's verdict
+    wire   b_st   = bn == 4'd0;         // the start bit
+    wire   b_sp   = bn == 4'd9;         // the stop bit
+    assign dec[4] = vrd;
     assign dec[5] = sub == 5'd31;
-    assign dec[6] = bn == 4'd0;
-    assign dec[7] = bn == 4'd9;
+    assign dec[6] = b_st;
+    assign dec[7] = b_sp;
     // (not done: its stop bit, framing error or break clears ac anyway,
     // but so the engine's proof needs no invariant for it)
-    assign dec[8] = !done && ac && (sub == 5'd19) && (bn != 4'd0) && (bn != 4'd9);
+    assign dec[8] = !done && ac && vrd && !b_st && !b_sp;
 
     // a start bit passed its re-check (the word keeps no flag of its own:
     // a character came, the answer ended, or one is past its start's
