@@ -26,14 +26,17 @@
 //   the engine keeps in the channel's state word; a read in the clock of
 //   that write answers the word before it (the read comes first, and the
 //   sample's POLL_READY bit a clock later announces the new one: no
-//   32-bit bypass, about 54 logic cells at every channel count).
+//   32-bit bypass, about 54 logic cells at every channel count). Until a
+//   channel's first result since the reset its word reads 0, its reset
+//   value: a flag a channel (`pr_ok`) masks the read. The reset sweep
+//   does not write it: its zero in front of the memory's write data was
+//   32 logic cells at every channel count, the flag is one a channel.
 // - Reset: twh_timing's reset sweep names every channel in turn (sw_we,
-//   sw_ch) and POLL_CTRL and POLL_RESULT are written with their reset
-//   values, POLL_CTRL's from wr_data in the clock of the channel's sweep
-//   that carries it (sw_pc: the core's data register holds it then, so
-//   no multiplexer stands in front of the memory); the register port takes
-//   no request and the walker does not start until the sweep is over (the
-//   timers need none: `restart`).
+//   sw_ch) and POLL_CTRL is written with its reset value, from wr_data in
+//   the clock of the channel's sweep that carries it (sw_pc: the core's
+//   data register holds it then, so no multiplexer stands in front of the
+//   memory); the register port takes no request and the walker does not
+//   start until the sweep is over (the timers need none: `restart`).
 `default_nettype none
 `include "twh_defs.vh"
 module twh_polls #(
@@ -47,8 +50,8 @@ module twh_polls #(
     input  wire                clk,
     input  wire                rst,
     input  wire                ms_tick,
-    // the reset sweep (twh_timing): this channel's registers take their
-    // reset values; no bus access, poll or result comes while it runs
+    // the reset sweep (twh_timing): this channel's POLL_CTRL takes its
+    // reset value; no bus access, poll or result comes while it runs
     input  wire                sw_we,
     input  wire [CW-1:0]       sw_ch,
     input  wire                sw_pc,        // ... and wr_data is POLL_CTRL's reset value
@@ -74,6 +77,7 @@ module twh_polls #(
     output reg                 error         // ... and it was a link error
 );
     reg  [CHANNELS-1:0] due, restart;
+    reg  [CHANNELS-1:0] pr_ok;       // a poll result arrived since the reset
 
     // ------------------------------------------------------------ POLL_CTRL
     reg          w_on, w_pend, w_dirty;
@@ -217,7 +221,9 @@ module twh_polls #(
                 if (rst || POLLING == 0) begin
                     due[n]     <= 1'b0;
                     restart[n] <= 1'b1;
+                    pr_ok[n]   <= 1'b0;
                 end else begin
+                    if (p_res && p_ch == n) pr_ok[n] <= 1'b1;
                     if (wr_n && !wr_data[31])            restart[n] <= 1'b1;
                     else if (clr_rs && set_ch == n)      restart[n] <= 1'b0;
                     if ((wr_n && !wr_data[31]) || (p_take && p_ch == n)) due[n] <= 1'b0;
@@ -232,14 +238,13 @@ module twh_polls #(
     wire [31:0] pr_wd = {p_count, p_status, p_data};
     wire [31:0] pr_rd;
 `ifdef FORMAL
-    wire [31:0] f_pr_now;       // POLL_RESULT of rd_ch as it stands (before this clock's write)
+    wire [31:0] f_pr_n;         // the memory's word of the followed channel
 `endif
     twh_ram #(.W(32), .AW(CW), .BLOCK(RAM_BLOCK)) u_res (
-        .clk(clk), .we((p_res || sw_we) && POLLING != 0), .waddr(sw_we ? sw_ch : p_ch),
-        .wdata(sw_we ? 32'd0 : pr_wd),
+        .clk(clk), .we(p_res && POLLING != 0), .waddr(p_ch), .wdata(pr_wd),
         .re(1'b1), .raddr(rd_ch), .rdata(pr_rd)
 `ifdef FORMAL
-        , .f_addr(rd_ch), .f_data(f_pr_now)
+        , .f_addr(f_n), .f_data(f_pr_n)
 `endif
     );
     wire link_err = (p_status >= `TWH_ST_BAD_CHECKSUM) && (p_status <= `TWH_ST_LINE_STUCK_HIGH);
@@ -250,10 +255,13 @@ module twh_polls #(
     end
 
     // ------------------------------------------------------------ bus reads
+    // (POLL_RESULT before the channel's first result reads 0: the mask
+    // is taken with the read, so a result written in the read's clock
+    // comes after it, as the memory's word does)
     reg        q_ctrl, q_res;
     always @(posedge clk) begin
         q_ctrl <= !rst && rd_ctrl;
-        q_res  <= !rst && rd_res;
+        q_res  <= !rst && rd_res && pr_ok[rd_ch];
     end
     assign rd_data = ({32{q_ctrl}} & (POLLING != 0 ? pc_rd : 32'd0)) |
                      ({32{q_res && POLLING != 0}} & pr_rd);
@@ -309,12 +317,18 @@ module twh_polls #(
     reg [CW-1:0] f_sc;            // the channel the engine's read named a clock ago
     reg          f_sd;            // ... and that channel's request then
     reg          f_past = 1'b0;
-    reg [31:0] f_prq;
+    // POLL_RESULT of the followed channel as software is to see it: 0
+    // from the reset, then the last result written
+    reg [31:0] f_prs, f_prq;
+    reg        f_rq;
     always @(posedge clk) begin
         f_sc   <= scan_ch;
         f_sd   <= due[scan_ch];
         f_past <= f_ok && !rst;
-        f_prq  <= f_pr_now;
+        if (rst)                                 f_prs <= 32'd0;
+        else if (p_res && p_ch == f_n && POLLING != 0) f_prs <= pr_wd;
+        f_prq  <= f_prs;
+        f_rq   <= !rst && rd_res && !rd_ctrl && rd_ch == f_n;
     end
     always @(*) begin
         if (f_ok && POLLING != 0) begin
@@ -343,8 +357,11 @@ module twh_polls #(
         // the engine's contract: a request with the command read for it
         if (f_past && f_sc == f_n && f_sd) assert(f_ro(poll_cmd[7:0]));
         // a POLL_RESULT read answers the channel's word as it stood in the
-        // read's clock: a result written in that clock comes after it
-        if (f_past && q_res && !q_ctrl && POLLING != 0) assert(rd_data == f_prq);
+        // read's clock (0 before its first result since the reset): a
+        // result written in that clock comes after it
+        if (f_past && f_rq && POLLING != 0) assert(rd_data == f_prq);
+        // (the memory holds the word once the channel has had a result)
+        if (f_ok && POLLING != 0) assert(pr_ok[f_n] ? f_pr_n == f_prs : f_prs == 32'd0);
         if (POLLING == 0) assert(due == {CHANNELS{1'b0}});
     end
     always @(posedge clk) begin
