@@ -156,6 +156,15 @@ module twh_engine #(
     localparam integer FRAC = CLK_HZ % 1_000_000;
     localparam integer QW   = (QDEPTH > 1) ? $clog2(QDEPTH) : 1;
     localparam integer CN   = 1 << CW;
+    // One channel: its visits are P >= 4 clocks apart, so the early part's
+    // and the control word's RAM registers hold the visit's words from S1
+    // through S2 when read only for the visit, and S2 takes them as they
+    // are, with no copy in flip-flops (45 + 15 of them, each a logic cell
+    // of its own: a RAM output into a flip-flop packs with no LUT). The
+    // first scan after a reset then reads the reset words from the
+    // memories' second word, which the clock after a reset writes
+    // (`s3_rw`), rather than taking them by a multiplexer.
+    localparam integer HOLD = (CHANNELS == 1) ? 1 : 0;
 
     // The ranges (tb/test_params.py reads them and checks that every tool
     // names the error module of a value outside them). The clock floor is
@@ -324,9 +333,26 @@ module twh_engine #(
     reg  [CW-1:0] s3_ch;
     wire [EW-1:0] s3_e = {s3_sum, `TWH_E_OF(s3_word)};
     wire [LW-1:0] s3_l = `TWH_L_OF(s3_word);
+    // (HOLD: the reset words' write, the clock after a reset, at the
+    // second word; the first scan's reads, at S0, take it)
+    reg           s3_rw;
+    reg           s0_init;
+    wire          e_we = s3_v || s3_rw;
+    localparam integer RSV_I = 1;
+    localparam [CW-1:0] RSV = RSV_I[CW-1:0];
+    wire [CW-1:0] e_wa = s3_rw ? RSV : s3_ch;
+    wire [CW-1:0] e_ra = (HOLD != 0 && !s0_init) ? RSV : s0_ch;
+    wire          e_re = (HOLD != 0) ? s0_v : 1'b1;
+`ifdef FORMAL
+    wire [EW-1:0] f_e_rsv;      // (HOLD) the memories' second word
+    wire [CTW-1:0] f_c_rsv;
+`endif
     twh_ram #(.W(EW), .AW(CW), .BLOCK(RAM_BLOCK)) u_state (
-        .clk(clk), .we(s3_v), .waddr(s3_ch), .wdata(s3_e),
-        .re(1'b1), .raddr(s0_ch), .rdata(e_rd)
+        .clk(clk), .we(e_we), .waddr(e_wa), .wdata(s3_e),
+        .re(e_re), .raddr(e_ra), .rdata(e_rd)
+`ifdef FORMAL
+        , .f_addr(RSV), .f_data(f_e_rsv)
+`endif
     );
     // (read a clock after the early part: S1's channel; a channel's write
     // and its next read are P - 2 >= 2 clocks apart). Read only for a
@@ -348,8 +374,11 @@ module twh_engine #(
     wire [CTW-1:0] c_rd;
     reg  [CTW-1:0] s3_ctl;
     twh_ram #(.W(CTW), .AW(CW), .BLOCK(RAM_BLOCK)) u_ctl (
-        .clk(clk), .we(s3_v), .waddr(s3_ch), .wdata(s3_ctl),
-        .re(1'b1), .raddr(s0_ch), .rdata(c_rd)
+        .clk(clk), .we(e_we), .waddr(e_wa), .wdata(s3_ctl),
+        .re(e_re), .raddr(e_ra), .rdata(c_rd)
+`ifdef FORMAL
+        , .f_addr(RSV), .f_data(f_c_rsv)
+`endif
     );
     // Reset needs no flag a channel: every scan visits and writes every
     // channel, so a channel's words are its own from the second scan after
@@ -369,7 +398,6 @@ module twh_engine #(
     // (of the channel S0 takes next: the first channel's S0 is the tick's
     // next clock)
     wire           pre_init = tick ? run1 : run2;
-    reg            s0_init;
     always @(posedge clk) s0_init <= pre_init;
 
     // An entry: code, payload (its high byte 0 in a 3-byte command), tag
@@ -483,6 +511,10 @@ module twh_engine #(
     wire [W-1:0]  w1 = (s1_init ? st_rd : W_RESET) & W_KEEP;   // (the early part's bits)
     // verilator lint_on UNUSEDSIGNAL
     wire [EW-2:0] e1 = `TWH_E_OF(w1);
+    // verilator lint_off UNUSEDSIGNAL
+    wire [W-1:0]  w1h = st_rd & W_KEEP;
+    // verilator lint_on UNUSEDSIGNAL
+    assign        s2_e = (HOLD != 0) ? `TWH_E_OF(w1h) : s2_eq;
     // the receiver's decodes and the answer's verdict, a clock ahead of
     // the step (off its path); only a word in listen uses them, and that
     // word is always the RAM's (the reset word is idle)
@@ -498,12 +530,14 @@ module twh_engine #(
     reg           s2_ok;
     reg [CW-1:0]  s2_ch;
     reg           s2_init;
-    reg [EW-2:0]  s2_e;           // the early part (without the verdict)
+    reg [EW-2:0]  s2_eq;          // the early part (without the verdict) ...
+    wire [EW-2:0] s2_e;           // ... or (HOLD) the RAM's register
     wire [QE-1:0] s2_q = q_rd;    // (the queue RAM's register: read at S1)
     wire [15:0]   s2_len = t_rd;    // (the timing RAM's register: read at S1)
     reg           s2_cc;
     reg [QW:0]    s2_ccnt;
-    reg [CTW-1:0] s2_c;
+    reg [CTW-1:0] s2_cq;
+    wire [CTW-1:0] s2_c = (HOLD != 0) ? c_rd : s2_cq;
     // What an idle channel starts is decided at S1, a clock ahead of the
     // step whose count load and frame it steers (decided at S2, the poll's
     // turn and the queue's count through the start into the count's load
@@ -549,9 +583,9 @@ module twh_engine #(
         s2_v    <= !rst && s1_v;
         s2_ch   <= s1_ch;
         s2_env  <= s1_env;
-        s2_c    <= s1_init ? c_rd : CTL_RESET;
+        s2_cq   <= s1_init ? c_rd : CTL_RESET;
         s2_init <= s1_init;
-        s2_e    <= e1;
+        s2_eq   <= e1;
         s2_rdec <= d1_rx;
         s2_status <= d1_status;
         s2_ok   <= d1_ok;
@@ -774,6 +808,7 @@ module twh_engine #(
     reg          s3_ich;
     always @(posedge clk) begin
         s3_v      <= !rst && s2_v;
+        s3_rw     <= rst && HOLD != 0;
         s3_ch     <= s2_ch;
         s3_word   <= wn;
         s3_sum    <= s2_init && r_sum;
@@ -782,6 +817,13 @@ module twh_engine #(
             s3_word[SH +: 24] <= 24'd0;
         end
         s3_ctl    <= cn_w;
+        // (HOLD: the reset words, which the clock after a reset writes at
+        // the memories' second word for the first scan's reads)
+        if (rst && HOLD != 0) begin
+            s3_word <= W_RESET;
+            s3_sum  <= 1'b0;
+            s3_ctl  <= CTL_RESET;
+        end
         s3_ins    <= ins;
         s3_last   <= last;
         s3_q      <= {f_code, f_pmsb, f_plsb, f_chk};
@@ -1076,6 +1118,12 @@ module twh_engine #(
             // nothing is visited before the first tick after reset
             if (!f_ticked) assert(!s0_v && !s1_v && !s2_v && !s3_v && !s4_v && !f_wr &&
                                   !run1 && !run2);
+            // (HOLD) the memories' second word holds the reset words from
+            // the write in the clock after a reset on: nothing is visited
+            // before it, and nothing else writes there
+            if (s3_rw) assert(!s0_v && !s1_v && !s2_v && !s3_v);
+            if (HOLD != 0 && !s3_rw)
+                assert(f_e_rsv == {1'b0, `TWH_E_OF(W_RESET)} && f_c_rsv == CTL_RESET);
             if (run2) assert(run1);
             // the stages carry what S0 read, a clock apart
             if (s1_v) assert(s1_ch < CHANNELS);

@@ -1,7 +1,7 @@
 // Every channel's autonomous poller for the time-shared engine, its
 // registers in RAM: POLL_CTRL (bus read and write), POLL_RESULT (bus read),
 // each channel's millisecond timer, and the command the engine sends. Per
-// channel only two flags stay in flip-flops (due, restart), so a channel
+// channel only three flags stay in flip-flops (due, restart, pr_ok), so a channel
 // costs a few cells here rather than a poller's eighty flip-flops.
 //
 // - A walker steps every channel's timer once a millisecond (three clocks a
