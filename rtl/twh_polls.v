@@ -95,7 +95,6 @@ module twh_polls #(
     wire         pc_we = (wr || (sw_we && sw_pc)) && POLLING != 0;
     wire [CW-1:0] pc_wa = sw_we ? sw_ch : wr_ch;
     wire [31:0]  pc_wd = wr_data;
-    reg  [15:0]  q_cmd;          // the step's: the command, the timer word, reload
     generate
         if (RAM_BLOCK != 0) begin : g_mem
             (* ram_style = "block" *) (* no_rw_check *) reg [31:0] pc_mem [0:(1 << CW) - 1];
@@ -103,7 +102,7 @@ module twh_polls #(
             always @(posedge clk) begin
                 if (pc_we) pc_mem[pc_wa] <= pc_wd;
                 pc_rd <= pc_mem[rd_ctrl ? rd_ch : w_ch];
-                if (cm_we) cm_mem[w_ch] <= q_cmd;
+                if (cm_we) cm_mem[w_ch] <= pc_w[15:0];
                 cm_rd <= cm_mem[scan_ch];
             end
         end else begin : g_mem
@@ -112,7 +111,7 @@ module twh_polls #(
             always @(posedge clk) begin
                 if (pc_we) pc_mem[pc_wa] <= pc_wd;
                 pc_rd <= pc_mem[rd_ctrl ? rd_ch : w_ch];
-                if (cm_we) cm_mem[w_ch] <= q_cmd;
+                if (cm_we) cm_mem[w_ch] <= pc_w[15:0];
                 cm_rd <= cm_mem[scan_ch];
             end
         end
@@ -124,8 +123,7 @@ module twh_polls #(
         .clk(clk), .we(tm_we), .waddr(w_ch), .wdata(q_tm), .re(1'b1), .raddr(w_ch), .rdata(tm_rd)
     );
     wire [31:0] pc_w;
-    reg  [15:0] q_tm;           // (with q_cmd) the step's: the timer word, reload
-    reg         q_reload;
+    reg  [15:0] q_tm;           // the step's timer word, for the commit
     assign poll_cmd = cm_rd;
 
     // the walker's step for w_ch, from the words read a clock ago and the
@@ -149,9 +147,7 @@ module twh_polls #(
         else             tm_wd = {t_now == 15'd2, t_now - 15'd1};
     end
     always @(posedge clk) begin
-        q_cmd    <= pc_w[15:0];
         q_tm     <= tm_wd;
-        q_reload <= reload;
     end
     wire commit = w_on && w_s == 2'd2 && !w_dirty;
     localparam [CW-1:0] LAST = CHANNELS[CW-1:0] - 1'b1;
@@ -189,16 +185,28 @@ module twh_polls #(
             end
         end
     end
-    // the commit's writes: the timer, and at a poll falling due (none
-    // pending) the command and, a clock later, due
+    // the commit's writes: the timer and, a clock later, due at a poll
+    // falling due (none pending)
     assign tm_we = commit && !rst && POLLING != 0;
-    // (due of the walker's channel as it will stand at the commit, taken a
-    // clock ahead: only a poll taken now clears it in between, and nothing
-    // sets it; its multiplexer over the channels was HX8K's 32-channel path
-    // into the command copy's write enable)
+    // (due of the walker's channel as it stands, taken a clock ahead: only
+    // a poll taken since clears it, and nothing sets it; its multiplexer
+    // over the channels was HX8K's 32-channel path into the command copy's
+    // write enable)
     reg          due_q;
     always @(posedge clk) due_q <= due[w_ch] && !(p_take && p_ch == w_ch);
-    assign cm_we = tm_we && q_reload && !due_q;
+    // The command is copied at the step, from the word read, while the
+    // memory's register still holds it (a bus read of POLL_CTRL may take
+    // the read port in the step's clock; not in the read's), when the poll
+    // falls due and none is (a poll taken in this clock has had its
+    // command: the engine read it a clock ago). The commit raises due only
+    // after a copy (`cm_did`); a write to the channel in between stops
+    // the commit, and the copy, of a word that was stored, is read by no
+    // one while no poll is due. (Copied at the commit, the command needed
+    // a 16-bit register from the step: 16 logic cells.)
+    assign cm_we = w_on && w_s == 2'd1 && reload && !(due_q && !(p_take && p_ch == w_ch)) &&
+                   !rst && POLLING != 0;
+    reg          cm_did;
+    always @(posedge clk) cm_did <= cm_we;
     // A commit clears its channel's restart flag a clock later (the walker
     // reads that flag again no sooner than two clocks after). A POLL_CTRL write with EN = 0 to the channel in the commit's own
     // clock withdraws its due poll and restarts its timer a clock later, so
@@ -208,7 +216,7 @@ module twh_polls #(
     reg          clr_rs;
     wire         wr_off = wr && wr_ch == w_ch && !wr_data[31];
     always @(posedge clk) begin
-        set_due <= cm_we && !wr_off;
+        set_due <= tm_we && cm_did && !wr_off;
         set_ch  <= w_ch;
         clr_rs  <= tm_we && !wr_off;
     end
@@ -344,7 +352,11 @@ module twh_polls #(
             // the command its step took is read-only when it falls due
             if (w_on && w_s == 2'd1 && !w_dirty)
                 assert(pc_rd == g_mem.pc_mem[w_ch] && rs_q == restart[w_ch]);
-            if (w_on && w_s == 2'd2 && !w_dirty && q_reload && w_ch == f_n) assert(f_ro(q_cmd[7:0]));
+            // (the step's word, if it polls, was stored, so its command is
+            // read-only; a copy leaves no poll due until the commit)
+            if (w_on && w_s == 2'd1 && w_ch == f_n && pc_rd[31]) assert(f_ro(pc_rd[7:0]));
+            if (cm_did) assert(w_on && w_s == 2'd2);
+            if (cm_did && w_ch == f_n) assert(f_ro(g_mem.cm_mem[f_n][7:0]) && !due[f_n]);
             if (w_on && w_s == 2'd2 && !w_dirty) assert(due_q == due[w_ch]);
             // (set_due follows a commit by a clock, the walker then reading)
             if (set_due) assert(!w_on || w_s == 2'd0);
