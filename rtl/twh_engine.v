@@ -838,7 +838,10 @@ module twh_engine #(
     assign p_take   = !rst && s2_v && start_p;
     assign p_res    = !rst && s2_v && poll_end;
     assign p_ch     = s2_ch;
-    assign p_data   = r_data_ok ? {r_sh[7:0], r_sh[15:8]} : 16'd0;
+    // (the answer's bytes whatever its status: POLL_RESULT's read shows
+    // them only with OK or BAD_CHECKSUM, twh_polls. A zero here, in front
+    // of the memory, was 16 logic cells)
+    assign p_data   = {r_sh[7:0], r_sh[15:8]};
     assign p_status = r_status;
     assign p_count  = w[CT +: 12] + 12'd1;   // (as the step's count: one adder)
 
@@ -1565,13 +1568,13 @@ module twh_engine #(
                 if (!f_pre[PL]) assert(f_rs_n == f_pst && s3_word[19]);
             end
             // a poll's start and end, and only a poll's, go to the pollers
-            // (POLL_RESULT): its status as above, data only with OK or
-            // BAD_CHECKSUM, the channel's count of polls one more
+            // (POLL_RESULT): its status as above, the answer's bytes, first
+            // over second (twh_polls shows them only with OK or
+            // BAD_CHECKSUM), the channel's count of polls one more
             assert(f_ptk == f_s_pol && f_pch == f_ch);
             assert(f_prs == (f_oph == `TWH_PH_LISTEN && f_pre_last && f_pre[PL]));
             if (f_prs) begin
-                if (f_pdt != 16'd0) assert(f_pst == `TWH_ST_OK ||
-                                            f_pst == `TWH_ST_BAD_CHECKSUM);
+                assert(f_pdt == {f_pre[SH +: 8], f_pre[SH+8 +: 8]});
                 assert(f_pct == f_pre[CT +: 12] + 12'd1 && s3_word[CT +: 12] == f_pct);
             end else begin
                 // (the first scan's write takes the reset word's count: 0)

@@ -31,6 +31,9 @@
 //   value: a flag a channel (`pr_ok`) masks the read. The reset sweep
 //   does not write it: its zero in front of the memory's write data was
 //   32 logic cells at every channel count, the flag is one a channel.
+//   The memory holds the answer's bytes whatever its status; the read
+//   shows them only with OK or BAD_CHECKSUM (16 cells fewer than a zero
+//   in front of the write).
 // - Reset: twh_timing's reset sweep names every channel in turn (sw_we,
 //   sw_ch) and POLL_CTRL is written with its reset value, from wr_data in
 //   the clock of the channel's sweep that carries it (sw_pc: the core's
@@ -271,8 +274,12 @@ module twh_polls #(
         q_ctrl <= !rst && rd_ctrl;
         q_res  <= !rst && rd_res && pr_ok[rd_ch];
     end
+    // (the answer's data only with OK or BAD_CHECKSUM: the engine hands
+    // over the bytes whatever the status, and the mask is here, in the
+    // select of the read's AND-OR, not in front of the memory)
+    wire        pr_dok = (pr_rd[19:16] == `TWH_ST_OK) || (pr_rd[19:16] == `TWH_ST_BAD_CHECKSUM);
     assign rd_data = ({32{q_ctrl}} & (POLLING != 0 ? pc_rd : 32'd0)) |
-                     ({32{q_res && POLLING != 0}} & pr_rd);
+                     ({32{q_res && POLLING != 0}} & {pr_rd[31:16], pr_rd[15:0] & {16{pr_dok}}});
 
 `ifdef FORMAL
     // ================================================================ formal
@@ -334,7 +341,9 @@ module twh_polls #(
         f_sd   <= due[scan_ch];
         f_past <= f_ok && !rst;
         if (rst)                                 f_prs <= 32'd0;
-        else if (p_res && p_ch == f_n && POLLING != 0) f_prs <= pr_wd;
+        else if (p_res && p_ch == f_n && POLLING != 0)
+            f_prs <= {pr_wd[31:16], (p_status == `TWH_ST_OK || p_status == `TWH_ST_BAD_CHECKSUM) ?
+                                    pr_wd[15:0] : 16'd0};
         f_prq  <= f_prs;
         f_rq   <= !rst && rd_res && !rd_ctrl && rd_ch == f_n;
     end
@@ -373,7 +382,11 @@ module twh_polls #(
         // result written in that clock comes after it
         if (f_past && f_rq && POLLING != 0) assert(rd_data == f_prq);
         // (the memory holds the word once the channel has had a result)
-        if (f_ok && POLLING != 0) assert(pr_ok[f_n] ? f_pr_n == f_prs : f_prs == 32'd0);
+        if (f_ok && POLLING != 0)
+            assert(pr_ok[f_n] ? f_pr_n[31:16] == f_prs[31:16] &&
+                                (f_prs[19:16] == `TWH_ST_OK || f_prs[19:16] == `TWH_ST_BAD_CHECKSUM ?
+                                 f_pr_n[15:0] == f_prs[15:0] : f_prs[15:0] == 16'd0)
+                              : f_prs == 32'd0);
         if (POLLING == 0) assert(due == {CHANNELS{1'b0}});
     end
     always @(posedge clk) begin
