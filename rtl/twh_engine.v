@@ -165,6 +165,10 @@ module twh_engine #(
     // memories' second word, which the clock after a reset writes
     // (`s3_rw`), rather than taking them by a multiplexer.
     localparam integer HOLD = (CHANNELS == 1) ? 1 : 0;
+    // ... and without polls the frame's bytes are the queue head's as it
+    // is, so S3 takes them from the queue RAM's register, read only for
+    // the visit too, rather than from a copy (below)
+    localparam integer HOLD_Q = (HOLD != 0 && POLLING == 0) ? 1 : 0;
 
     // The ranges (tb/test_params.py reads them and checks that every tool
     // names the error module of a value outside them). The clock floor is
@@ -432,7 +436,7 @@ module twh_engine #(
 `endif
     twh_ram #(.W(QE), .AW(CW + QW), .BLOCK(RAM_BLOCK)) u_queue (
         .clk(clk), .we(ins), .waddr({s2_ch, ins_tl}), .wdata(p_e),
-        .re(1'b1), .raddr({s1_ch, c_rd[C_HD +: QW]}), .rdata(q_rd)
+        .re((HOLD_Q != 0) ? s1_v : 1'b1), .raddr({s1_ch, c_rd[C_HD +: QW]}), .rdata(q_rd)
 `ifdef FORMAL
         , .f_addr({f_ch, f_qi}), .f_data(f_qm)
 `endif
@@ -851,12 +855,19 @@ module twh_engine #(
     wire [2:0] n_ph = s3_word[2:0];
     wire [3:0] t_bn = s3_word[BN +: 4];
     reg  [7:0] t_byte;
+    // (HOLD_Q: the frame's bytes from the queue RAM's register, which
+    // holds the visit's head through S3, and only the checksum from S3's
+    // register: 24 flip-flops fewer, each a logic cell of its own, as a
+    // copy of a RAM's output. With polls each byte has the poll's frame as
+    // its other choice, and from the RAMs' outputs that choice and the
+    // bit's made the UP5K's longest path at one channel, 45.8 MHz)
+    wire [31:0] t_q = (HOLD_Q != 0) ? {f_code, f_pmsb, f_plsb, s3_q[7:0]} : s3_q;
     always @(*) begin
         case (s3_word[NB +: 2])
-            2'd0:    t_byte = s3_q[31:24];
-            2'd1:    t_byte = s3_q[31] ? s3_q[23:16] : s3_q[15:8];
-            2'd2:    t_byte = s3_q[31] ? s3_q[15:8]  : s3_q[7:0];
-            default: t_byte = s3_q[7:0];
+            2'd0:    t_byte = t_q[31:24];
+            2'd1:    t_byte = t_q[31] ? t_q[23:16] : t_q[15:8];
+            2'd2:    t_byte = t_q[31] ? t_q[15:8]  : t_q[7:0];
+            default: t_byte = t_q[7:0];
         endcase
     end
     wire [9:0] t_char  = {1'b1, t_byte, 1'b0};

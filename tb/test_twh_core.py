@@ -1246,6 +1246,7 @@ CASES = [
     ("reset_mid_traffic", 0, 4_000_000, 3, 16),
     ("reset_mid_traffic", 1, 4_000_000, 3, 16),
     ("lean_build", 1, 4_000_000, 3, 16),      # with LEAN's parameters
+    ("lean_build", 0, 4_000_000, 1, 16),      # ... one channel (the engine's HOLD_Q)
     ("six_channels", 0, 6_000_000, 6, 16),   # the engine's floor for six channels
 ]
 # the feature parameters of a fixed-timing board without polling
