@@ -15,7 +15,7 @@
 // flip-flops, and the checks that need a comparator (the timing windows, the
 // unlock keys, the factory-area rule) are taken on the way into it.
 // A request is made only while reg_ready is 1. After a reset it is 0 while
-// twh_timing's sweep writes every timing and poll register's reset value
+// twh_timing's sweep writes every timing register's and POLL_CTRL's reset value
 // into the memories and the engines take their lengths from them: 32
 // clocks up to 4 channels, 64 up to 8, 128 up to 16, 256 up to 32 (none
 // with fixed timing and no poller); then 1 until the next reset. (A

@@ -33,8 +33,8 @@ module twh_core_engine #(
     input  wire                   clk,
     input  wire                   rst,
     input  wire                   ms_tick,
-    // twh_timing's reset sweep: this channel's poll registers take their
-    // reset values
+    // twh_timing's reset sweep: this channel's POLL_CTRL takes its reset
+    // value
     input  wire                   sw_we,
     input  wire [4:0]             sw_ch,
     input  wire                   sw_pc,     // ... its word is POLL_CTRL's

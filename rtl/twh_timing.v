@@ -16,7 +16,7 @@
 //   as long again so that the fetch has handed every channel its lengths
 //   from the swept words; `ready` is low until then, and the core's
 //   register port takes no request while it is (so no bus write is swept
-//   over). The same sweep writes the pollers' registers' reset values
+//   over). The same sweep writes POLL_CTRL's reset value
 //   (`sw_we`, `sw_ch`: twh_polls). A memory written back to its defaults
 //   costs no cells a channel, where a "written since reset" flag a word
 //   and its multiplexers cost about six (docs/engine.md). The word the
