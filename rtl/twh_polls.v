@@ -140,14 +140,15 @@ module twh_polls #(
     wire        p_en   = pc_w[31];
     wire [14:0] p_iv   = pc_w[30:16];
     wire        rs     = rs_q;
-    wire [14:0] t_now  = rs ? 15'd1 : tm_rd[14:0];
+    // (the timer's last millisecond, or a restart: reload. A count steps
+    // down only when neither, so its decrement takes the memory's word
+    // with no restart's multiplexer in front of the carry chain)
     wire        l_now  = rs || tm_rd[15];
     wire        reload = p_en && l_now;
     always @(*) begin
-        tm_wd = {l_now, t_now};
         if (!p_en)       tm_wd = {1'b1, 15'd1};
         else if (l_now)  tm_wd = {p_iv <= 15'd1, p_iv};
-        else             tm_wd = {t_now == 15'd2, t_now - 15'd1};
+        else             tm_wd = {tm_rd[14:0] == 15'd2, tm_rd[14:0] - 15'd1};
     end
     always @(posedge clk) begin
         q_tm     <= tm_wd;
