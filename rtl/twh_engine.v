@@ -505,6 +505,11 @@ module twh_engine #(
     wire [QW:0]   c1_cc  = (s1_fl || cancel) ? c1_cnt - {{QW{1'b0}}, c_rd[C_AC]}
                                              : c_rd[C_CC +: QW+1];
     reg           s2_v, s2_env, s2_last;
+    // a bit of the command's frame ends with this period (cnt[4:0] == 1),
+    // taken at S1: from the count's RAM output (one channel) or its copy
+    // through the compare into the frame's position, the UP5K's longest
+    // path at one channel at three seeds of five
+    reg           s2_bl;
     // the word as S1 has it: the early part, the phase from the control
     // word, no data bits
     wire [W-1:0]  st_rd = {e_rd[EW-2 -: 4], 8'd0, e_rd[EW-6 : SH-3], 24'd0, e_rd[SH-4 : 0],
@@ -600,6 +605,7 @@ module twh_engine #(
         s2_status <= d1_status;
         s2_ok   <= d1_ok;
         s2_last <= s1_init ? (st_rd[18:4] == 15'd0) : 1'b0;
+        s2_bl   <= (st_rd[7:3] == 5'd1);
         // a poll's listen ends: into twh_polls' result write, off the step
         s2_pend <= s1_init && (st_rd[2:0] == `TWH_PH_LISTEN) && (st_rd[18:4] == 15'd0) &&
                    st_rd[PL] && (POLLING != 0);
@@ -729,7 +735,7 @@ module twh_engine #(
                 if (last) begin
                     wn[2:0] = `TWH_PH_EXECUTE;
                     wn[18:3] = s2_len;
-                end else if (cnt[4:0] == 5'd1) begin       // a bit's last period
+                end else if (s2_bl) begin       // a bit's last period (cnt[4:0] == 1)
                     if (w[BN +: 4] == 4'd10) begin
                         wn[BN +: 4] = 4'd0;
                         wn[NB +: 2] = w[NB +: 2] + 2'd1;
@@ -1165,6 +1171,9 @@ module twh_engine #(
                                               s2_last == (f_cur[18:4] == 15'd0));
             // (taken at S1 from the same word)
             if (s2_v) assert(s2_idle_go == (s2_w[2:0] == `TWH_PH_IDLE && s2_last && !s2_w[19]));
+            // (in the first scan after a reset s2_bl is the RAM's word's,
+            // not the reset word's: only the command phase reads it)
+            if (s2_v && s2_init) assert(s2_bl == (s2_w[7:3] == 5'd1));
             // written since reset, or being written: from the first scan's
             // S3 on (f_ch + 4 clocks after the tick: at P = 4 the last
             // channel's falls in the next scan's first clock), so at the
