@@ -159,8 +159,9 @@ module twh_engine #(
     // One channel: its visits are P >= 4 clocks apart, so the early part's
     // and the control word's RAM registers hold the visit's words from S1
     // through S2 when read only for the visit, and S2 takes them as they
-    // are, with no copy in flip-flops (45 + 15 of them, each a logic cell
-    // of its own: a RAM output into a flip-flop packs with no LUT). The
+    // are, with no copy in flip-flops but for the phase and "a result
+    // waits" (below): 56 fewer, each a logic cell of its own, as a RAM
+    // output into a flip-flop packs with no LUT. The
     // first scan after a reset then reads the reset words from the
     // memories' second word, which the clock after a reset writes
     // (`s3_rw`), rather than taking them by a multiplexer.
