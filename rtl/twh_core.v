@@ -533,8 +533,7 @@ module twh_core #(
     // same clock, so software never sees the one without the other.
     reg  push_link_err;
     always @(posedge clk)
-        push_link_err <= !rst && res_push && (push_status >= `TWH_ST_BAD_CHECKSUM) &&
-                         (push_status <= `TWH_ST_LINE_STUCK_HIGH);
+        push_link_err <= !rst && res_push && `TWH_ST_LINK_ERR(push_status);
     wire [31:0] busy8;               // per channel, padded to 32
 
     // Each register loads on its own strobes, with no shared "anything to

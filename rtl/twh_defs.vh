@@ -24,6 +24,10 @@
 `define TWH_ST_LINE_STUCK_HIGH 4'd6
 `define TWH_ST_BLOCKED         4'd7
 `define TWH_ST_CANCELLED       4'd8
+// a status whose result carries the answer's data bytes (else they read 0)
+`define TWH_ST_HAS_DATA(s) (((s) == `TWH_ST_OK) || ((s) == `TWH_ST_BAD_CHECKSUM))
+// a status that counts as a link error (ERRORS.LINK_ERROR)
+`define TWH_ST_LINK_ERR(s) (((s) >= `TWH_ST_BAD_CHECKSUM) && ((s) <= `TWH_ST_LINE_STUCK_HIGH))
 
 // Spec windows, microseconds (the charge, listen and turnaround phases have
 // no spec maximum; the 16-bit duration inputs cap them at 65535 us).

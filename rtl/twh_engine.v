@@ -537,7 +537,7 @@ module twh_engine #(
     twh_rx_dec u_rdec (.rx(st_rd[U0 +: UW]), .sync_low(st_rd[20]), .pre_high(st_rd[21]),
                        .sum_ok(e_rd[EW-1]), .dec(d1_rx), .status(d1_status));
     // (the answer's data is its bytes when OK or BAD_CHECKSUM)
-    wire          d1_ok = (d1_status == `TWH_ST_OK) || (d1_status == `TWH_ST_BAD_CHECKSUM);
+    wire          d1_ok = `TWH_ST_HAS_DATA(d1_status);
     reg           s2_pend;
     reg [8:0]     s2_rdec;
     reg [3:0]     s2_status;
@@ -553,7 +553,7 @@ module twh_engine #(
     reg [CTW-1:0] s2_cq;
     // (HOLD: the phase, the step's widest select, from its copy: from the
     // RAM's slower output it was among the HX8K's longest paths)
-    wire [CTW-1:0] s2_c = (HOLD != 0) ? {s2_cq[CTW-1 -: 3], c_rd[CTW-4:0]} : s2_cq;
+    wire [CTW-1:0] s2_c = (HOLD != 0) ? {s2_cq[C_PH +: 3], c_rd[C_PH-1:0]} : s2_cq;
     // What an idle channel starts is decided at S1, a clock ahead of the
     // step whose count load and frame it steers (decided at S2, the poll's
     // turn and the queue's count through the start into the count's load

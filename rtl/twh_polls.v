@@ -259,7 +259,7 @@ module twh_polls #(
         , .f_addr(f_n), .f_data(f_pr_n)
 `endif
     );
-    wire link_err = (p_status >= `TWH_ST_BAD_CHECKSUM) && (p_status <= `TWH_ST_LINE_STUCK_HIGH);
+    wire link_err = `TWH_ST_LINK_ERR(p_status);
     always @(posedge clk) begin
         sample <= (!rst && p_res && POLLING != 0) ? {{(CHANNELS-1){1'b0}}, 1'b1} << p_ch
                                                   : {CHANNELS{1'b0}};
@@ -278,7 +278,7 @@ module twh_polls #(
     // (the answer's data only with OK or BAD_CHECKSUM: the engine hands
     // over the bytes whatever the status, and the mask is here, in the
     // select of the read's AND-OR, not in front of the memory)
-    wire        pr_dok = (pr_rd[19:16] == `TWH_ST_OK) || (pr_rd[19:16] == `TWH_ST_BAD_CHECKSUM);
+    wire        pr_dok = `TWH_ST_HAS_DATA(pr_rd[19:16]);
     assign rd_data = ({32{q_ctrl}} & (POLLING != 0 ? pc_rd : 32'd0)) |
                      ({32{q_res && POLLING != 0}} & {pr_rd[31:16], pr_rd[15:0] & {16{pr_dok}}});
 
