@@ -370,7 +370,14 @@ module twh_core #(
     // verilator lint_on UNUSEDSIGNAL
     wire        cmd_vacant;           // no command queued (STATUS.CMD_EMPTY)
     wire [LW-1:0] cmd_level;
-    wire [34:0] cmd_head;
+    // A command FIFO entry: {blocked, tag, channel, payload, code}, the
+    // channel in as many bits as its count needs (CF_CW): with up to four
+    // channels an entry is 32 bits, two iCE40 blocks rather than three
+    localparam integer CF_CW = (CH_N > 2) ? $clog2(CH_N) : 1;
+    localparam integer CF_T  = 24 + CF_CW;       // the tag's low bit
+    localparam integer CF_B  = CF_T + 5;         // the blocked flag
+    localparam integer CF_W  = CF_B + 1;
+    wire [CF_W-1:0] cmd_head;
     wire        push_bad_ch = q_bad_ch;      // the push is to an absent channel
     wire        push_ok   = q_push_ch && !cmd_full;
 
@@ -378,9 +385,12 @@ module twh_core #(
 
     wire [7:0]  h_cmd     = cmd_head[7:0];
     wire [15:0] h_payload = cmd_head[23:8];
-    wire [4:0]  h_ch      = cmd_head[28:24];
-    wire [4:0]  h_tag     = cmd_head[33:29];
-    wire        h_blocked = cmd_head[34];
+    // verilator lint_off UNUSEDSIGNAL
+    wire [31:0] h_ch_w    = {{(32-CF_CW){1'b0}}, cmd_head[CF_T-1:24]};
+    // verilator lint_on UNUSEDSIGNAL
+    wire [4:0]  h_ch      = h_ch_w[4:0];
+    wire [4:0]  h_tag     = cmd_head[CF_B-1:CF_T];
+    wire        h_blocked = cmd_head[CF_B];
 
     // Dispatch: the FIFO's head is offered to the engine (`dispatch`, a
     // flip-flop, as are its channel and blocked flag: the decision reads
@@ -411,9 +421,9 @@ module twh_core #(
     wire [3:0] h_skip = (flushing || flush_wr) ? `TWH_ST_CANCELLED :
                         disp_blk               ? `TWH_ST_BLOCKED : 4'd0;
 
-    twh_fifo #(.W(35), .DEPTH(DEPTH_N)) u_cmd_fifo (
+    twh_fifo #(.W(CF_W), .DEPTH(DEPTH_N)) u_cmd_fifo (
         .clk(clk), .rst(rst),
-        .push(push_ok), .din({p_blocked, q_wdata[28:24], q_blk, q_wdata[23:0]}), .full(cmd_full),
+        .push(push_ok), .din({p_blocked, q_wdata[28:24], q_blk[CF_CW-1:0], q_wdata[23:0]}), .full(cmd_full),
         .pop(take), .dout(cmd_head), .empty(cmd_empty), .valid_next(cmd_valid_next),
         .level(cmd_level), .vacant(cmd_vacant)
     );
@@ -942,12 +952,12 @@ module twh_core #(
     (* keep *) wire          f_cf_top, f_cf_one;   // u_cmd_fifo.top_r, one_r
     (* keep *) wire          f_cf_mo;              // u_cmd_fifo.mem_one
     (* keep *) wire [F_AW:0] f_cf_rp2;             // u_cmd_fifo.rd_ptr_p2
-    wire [35*FIFO_DEPTH-1:0] f_cf_mem;
+    wire [CF_W*FIFO_DEPTH-1:0] f_cf_mem;
     genvar f_i;
     generate
         for (f_i = 0; f_i < FIFO_DEPTH; f_i = f_i + 1) begin : g_f_cf_mem
-            (* keep *) wire [34:0] w;               // u_cmd_fifo.mem[f_i]
-            assign f_cf_mem[f_i*35 +: 35] = w;
+            (* keep *) wire [CF_W-1:0] w;           // u_cmd_fifo.mem[f_i]
+            assign f_cf_mem[f_i*CF_W +: CF_W] = w;
         end
     endgenerate
     wire [F_AW:0] f_cf_n = f_cf_wr - f_cf_rd;      // words in the RAM, behind the output
@@ -1024,10 +1034,11 @@ module twh_core #(
     reg [1:0]    f_st;
     reg [LW-1:0] f_pos;
     reg [2:0]    f_qp;
-    reg [34:0]   f_word;       // as pushed: {blocked, tag, channel, payload, code}
+    reg [CF_W-1:0] f_word;     // as pushed: {blocked, tag, channel, payload, code}
     reg          f_can;
     reg          f_blk;        // it must come out BLOCKED (unless CANCELLED)
-    wire [4:0]   f_ch    = f_word[28:24];
+    wire [31:0]  f_ch_w  = {{(32-CF_CW){1'b0}}, f_word[CF_T-1:24]};
+    wire [4:0]   f_ch    = f_ch_w[4:0];
     wire         f_flush = wr && !is_ch && g_reg == R_CTRL && q_wdata[1];
     // (the engine takes a flush in its own clock: f_can)
     wire [3:0]   f_skip  = f_can ? `TWH_ST_CANCELLED :
@@ -1049,7 +1060,7 @@ module twh_core #(
             case (f_st)
                 2'd0: if (push_ok && f_pick) begin
                           f_st   <= 2'd1;
-                          f_word <= {p_blocked, q_wdata[28:24], q_blk, q_wdata[23:0]};
+                          f_word <= {p_blocked, q_wdata[28:24], q_blk[CF_CW-1:0], q_wdata[23:0]};
                           f_blk  <= f_factory && !f_armed;
                           f_pos  <= cmd_level - {{(LW-1){1'b0}}, take};
                           f_can  <= 1'b0;
@@ -1079,8 +1090,8 @@ module twh_core #(
 
     // its FIFO word, where it waits
     wire [F_AW:0] f_at = f_cf_rd + f_pos[F_AW:0] - {{F_AW{1'b0}}, f_cf_ov};
-    wire [34:0]   f_stored = (f_pos == {LW{1'b0}} && f_cf_ov) ? cmd_head
-                                                               : f_cf_mem[f_at[F_AW-1:0]*35 +: 35];
+    wire [CF_W-1:0] f_stored = (f_pos == {LW{1'b0}} && f_cf_ov) ? cmd_head
+                                                                 : f_cf_mem[f_at[F_AW-1:0]*CF_W +: CF_W];
 
     always @(*) begin
         f_k = 0;
@@ -1108,16 +1119,16 @@ module twh_core #(
             assert(f_rf_mo == (f_rf_rp1 == f_rf_wr) && f_rf_rp2 == f_rf_rd + 2'd2);
             // every queued command names a channel that exists (the push
             // refuses the others), so a dispatch always lands in a queue
-            if (f_cf_ov) assert({1'b0, cmd_head[28:24]} < CH_COUNT);
+            if (f_cf_ov) assert({1'b0, h_ch} < CH_COUNT);
             for (f_k = 0; f_k < FIFO_DEPTH; f_k = f_k + 1)
                 if (f_k < f_cf_n)
-                    assert({1'b0, f_cf_mem[((f_cf_rd[F_AW-1:0] + f_k) % FIFO_DEPTH)*35 + 24 +: 5]} < CH_COUNT);
+                    assert(f_cf_mem[((f_cf_rd[F_AW-1:0] + f_k) % FIFO_DEPTH)*CF_W + 24 +: CF_CW] < CH_COUNT);
 
             // ---- dispatch: the word offered is the FIFO's head, for an
             // existing channel, and it stays offered, unchanged, until taken
             // (below: the engine's proof assumes both)
             if (dispatch)
-                assert(f_cf_ov && disp_ch == cmd_head[28:24] && disp_blk == cmd_head[34] &&
+                assert(f_cf_ov && disp_ch == h_ch && disp_blk == cmd_head[CF_B] &&
                        {1'b0, disp_ch} < CH_COUNT);
             // a result's channel exists
             if (e_res_valid) assert({1'b0, e_res[32:28]} < CH_COUNT);
@@ -1135,7 +1146,7 @@ module twh_core #(
             if (push_ok) assert(p_blocked == (f_factory && !f_armed));
 
             // ---- the followed command
-            if (f_st != 2'd0) assert(f_word[34] == f_blk);
+            if (f_st != 2'd0) assert(f_word[CF_B] == f_blk);
             if (f_st == 2'd1) begin
                 assert(f_pos < cmd_level);
                 assert(f_stored == f_word);
@@ -1148,12 +1159,12 @@ module twh_core #(
             // blocked or cancelled as it must be (a started head no
             // longer changes)
             if (f_st == 2'd2)
-                assert(f_qp < f_e_cnt && f_e_ent == {f_skip, f_word[33:29], f_word[7:0]});
+                assert(f_qp < f_e_cnt && f_e_ent == {f_skip, f_word[CF_B-1:CF_T], f_word[7:0]});
             // its one result, into the result FIFO as its head leaves the
             // queue: its tag, channel and code, and its status
             assert(f_st != 2'd3);
             if (f_st == 2'd2 && f_qp == 3'd0 && f_e_out) begin
-                assert(e_res_valid && e_res[32:28] == f_ch && e_res[37:33] == f_word[33:29] &&
+                assert(e_res_valid && e_res[32:28] == f_ch && e_res[37:33] == f_word[CF_B-1:CF_T] &&
                        e_res[23:16] == f_word[7:0]);
                 if (f_skip != 4'd0) assert(e_res[27:24] == f_skip);
                 else                assert(e_res[27:24] <= `TWH_ST_LINE_STUCK_HIGH);
