@@ -37,19 +37,20 @@ module twh_core_engine #(
     input  wire                   rst,
     input  wire                   ms_tick,
     input  wire                   sw_we,        // (the pollers' reset sweep: no pollers here)
-    input  wire [4:0]             sw_ch,
-    input  wire                   sw_pc,
     input  wire                   tick,
     input  wire                   fall,
     input  wire                   enable,
     input  wire [CHANNELS-1:0]    idle_charge,
     input  wire [31:0]            wdata,
     input  wire                   pc_wr,
-    input  wire                   rd_ctrl,
+    input  wire                   port_rd,
     input  wire                   rd_res,
     input  wire                   rd_state,
     input  wire [4:0]             reg_ch,
     output wire [31:0]            rd_data,
+    output wire                   pc_rd,
+    output wire [4:0]             pc_ch,
+    input  wire [31:0]            pc_word,
     output wire [CHANNELS*3-1:0]  nx_ph,
     input  wire                   dur_v,
     input  wire [4:0]             dur_ch,
@@ -166,10 +167,13 @@ module twh_core_engine #(
     assign res_valid   = |f_pop;
     assign res         = {r_tag, r_ch, r_status, r_code, r_data};
     assign cancelling  = f_canc;
-    // a POLL_CTRL / POLL_RESULT / STATE read is answered in the clock after
-    // its select, with 0 otherwise (twh_polls' timing: the core ORs it in)
+    // a POLL_RESULT / STATE read is answered in the clock after its
+    // select, with 0 otherwise (twh_polls' timing: the core ORs it in;
+    // POLL_CTRL is twh_timing's, and no walker reads it here)
     reg rd_q;
-    always @(posedge clk) rd_q <= !rst && (rd_ctrl || rd_res || rd_state);
+    always @(posedge clk) rd_q <= !rst && (rd_res || rd_state);
+    assign pc_rd       = 1'b0;
+    assign pc_ch       = 5'd0;
     assign rd_data     = rd_q ? f_rd : 32'd0;
     assign nx_ph       = f_nx;
     assign poll_sample = f_sample;
@@ -188,7 +192,7 @@ module twh_core_engine #(
     end
 
     // verilator lint_off UNUSEDSIGNAL
-    wire unused = &{1'b0, ms_tick, sw_we, sw_ch, sw_pc, tick, fall, idle_charge, wdata, pc_wr, reg_ch,
+    wire unused = &{1'b0, ms_tick, sw_we, port_rd, pc_word, tick, fall, idle_charge, wdata, pc_wr, reg_ch,
                     dur_v, dur_ch, dur, dur_fld, cmd_payload, line_i, CLK_HZ[0], POLLING[0],
                     RAM_BLOCK[0]};
     // verilator lint_on UNUSEDSIGNAL

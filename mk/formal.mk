@@ -31,7 +31,7 @@ FORMAL_JOBS_rest = \
     twh_engine_pin:c4 twh_engine_pin:c48 twh_engine_pin:c100 \
     twh_engine_pin:carrier_c4 twh_engine_pin:carrier_c48 twh_engine_pin:carrier_c100 \
     twh_engine_pin:cover_c4 \
-    twh_timing:ch1 twh_timing:ch3 twh_timing:ch6 twh_timing:fixed3
+    twh_timing:ch1 twh_timing:ch3 twh_timing:ch6 twh_timing:fixed3 twh_timing:lean3
 FORMAL_JOBS_all = $(FORMAL_JOBS_long) $(FORMAL_JOBS_rest)
 FORMAL_PART ?= all
 FORMAL_JOBS ?= $(FORMAL_JOBS_$(FORMAL_PART))

@@ -197,15 +197,13 @@ module twh_core #(
     // The reset sweep (twh_timing, while the port is not ready) writes its
     // words through this stage's data register too: from reset on it holds
     // the default of the register the sweep writes next (TIMING0-2, then
-    // POLL_CTRL's reset value in the word no register uses), so neither
-    // twh_timing's memory nor twh_polls' POLL_CTRL has a multiplexer of its
-    // own in front of it (the one here is in the register's own cells).
+    // POLL_CTRL's reset value, each channel's fourth word), so twh_timing's
+    // memory has no multiplexer of its own in front of it (the one here is
+    // in the register's own cells).
     // The data's load takes the sweep too, the strobes' does not: the
     // sweep in the strobes' enable was ECP5's path into their reset.
     wire        t_ready, t_sw_we;     // (twh_timing's, below)
-    wire [4:0]  t_sw_ch;
     wire [1:0]  t_sw_reg;
-    wire        p_sw_pc  = t_sw_reg == 2'd3;    // ... POLL_CTRL's word (twh_polls)
     wire       d_load   = i_load || t_sw_we;
     wire       sw_load  = rst || t_sw_we;
     wire [1:0] sw_nx    = rst ? 2'd0 : t_sw_reg + 2'd1;
@@ -482,26 +480,36 @@ module twh_core #(
     // comes out of the block RAM's register in the answer's clock
     wire [1:0]  q_treg = q_addr[3:2];            // TIMING0-2 of a channel block
     wire        t_wr  = q_wr_t && t_take;        // a timing write taken
-    // (its reset sweep writes the pollers' registers too: SWEEP; the
-    // register port waits for it, t_ready)
+    // POLL_CTRL is each channel's fourth word of twh_timing's memory
+    // (POLL): a write the core takes (its read-only verdict) and a read
+    // go there, as register 3, and the pollers' walker reads it through
+    // the same port
+    wire        p_wr  = q_wp && wr && q_win_p && POLLING != 0;
+    wire        p_rd  = q_r_pc && POLLING != 0;
+    wire        pc_rd;
+    wire [4:0]  pc_ch;
+    wire [31:0] pc_word;
+    // (its reset sweep writes POLL_CTRL's reset value too; the register
+    // port waits for it, t_ready)
     twh_timing #(.CHANNELS(CH_N), .PROG(PROG_TIMING), .NX_PHASE(1),
-                 .SWEEP(POLLING != 0 ? 1 : 0)) u_timing (
-        .clk(clk), .rst(rst), .ready(t_ready), .sw_we(t_sw_we), .sw_ch(t_sw_ch),
+                 .POLL(POLLING != 0 ? 1 : 0)) u_timing (
+        .clk(clk), .rst(rst), .ready(t_ready), .sw_we(t_sw_we),
         .sw_reg(t_sw_reg), .lab(lab),
-        .wr(t_wr), .wr_ch(q_blk), .wr_reg(q_treg),
+        .wr(t_wr || p_wr), .wr_ch(q_blk), .wr_reg(q_treg),
         .wr_data(q_wdata), .wr_cmp(q_cmp),
-        .rd(q_r_t), .rd_ch(q_blk), .rd_reg(q_treg), .rd_data(t_rdata),
+        .rd(q_r_t || p_rd), .rd_ch(q_blk), .rd_reg(q_treg), .rd_data(t_rdata),
+        .pc_rd(pc_rd), .pc_ch(pc_ch), .pc_word(pc_word),
         .nx_fld(c_nx_fld), .dur_we(t_dur_we), .dur_v(t_dur_v), .dur_ch(t_dur_ch), .dur(t_dur),
         .dur_fld(t_dur_fld)
     );
 
     twh_core_engine #(.CLK_HZ(CLK_HZ), .CHANNELS(CH_N), .POLLING(POLLING),
                       .PROG_TIMING(PROG_TIMING), .RAM_BLOCK(RAM_BLOCK)) u_engine (
-        .clk(clk), .rst(rst), .ms_tick(ms_tick), .sw_we(t_sw_we), .sw_ch(t_sw_ch),
-        .sw_pc(p_sw_pc),
+        .clk(clk), .rst(rst), .ms_tick(ms_tick), .sw_we(t_sw_we),
         .tick(us_tick), .fall(us_fall), .enable(enable), .idle_charge(idle_charge[CH_N-1:0]),
-        .wdata(q_wdata), .pc_wr(q_wp && wr && q_win_p), .rd_ctrl(q_r_pc),
+        .wdata(q_wdata), .pc_wr(q_wp && wr && q_win_p), .port_rd(q_r_t || p_rd),
         .rd_res(q_r_pr), .rd_state(q_r_st), .reg_ch(q_blk), .rd_data(p_rdata),
+        .pc_rd(pc_rd), .pc_ch(pc_ch), .pc_word(pc_word),
         .nx_ph(c_nx_fld), .dur_v(t_dur_v), .dur_ch(t_dur_ch), .dur(t_dur),
         .dur_fld(t_dur_fld), .poll_sample(c_sample), .poll_error(c_poll_err),
         .cmd_valid(dispatch), .cmd_ch(disp_ch), .cmd_code(h_cmd),
@@ -668,7 +676,7 @@ module twh_core #(
     // timing word (twh_timing's RAM register) and the channel word of
     // twh_core_engine (p_rdata, a register there)
     reg [31:0] rdata_q;
-    reg        t_rd_q;           // the answer is a TIMING0-2 read
+    reg        t_rd_q;           // the answer is twh_timing's: TIMING0-2 or POLL_CTRL
     always @(posedge clk) begin
         if (rst) begin
             reg_ack   <= 1'b0;
@@ -682,7 +690,7 @@ module twh_core #(
             // between answers the read selects are 0, and so are these
             if (q_req || reg_ack) begin
                 rdata_q   <= g_rdata;
-                t_rd_q  <= q_r_t;
+                t_rd_q  <= q_r_t || p_rd;
             end
         end
     end
@@ -725,7 +733,6 @@ module twh_core #(
     always @(posedge clk) if (rst) f_swr <= 1'b1;
     always @(*) begin
         if (f_swr && !rst && t_sw_we) assert(q_wdata == f_sw_def(t_sw_reg) && q_cmp == 4'd0);
-        if (f_swr && !rst && t_sw_we && p_sw_pc) assert(q_wdata == {1'b0, 15'd1000, 8'hAA, 8'h44});
     end
 `endif
     always @(*) begin
@@ -875,12 +882,13 @@ module twh_core #(
         f_chk_rd  <= f_rs && f_h && !rst;
         f_rdata_q <= f_rdata;
     end
-    // a TIMING0-2 read answers twh_timing's word for its address (its own
-    // proof: the register's value as of the read)
+    // a TIMING0-2 read, and with POLLING a POLL_CTRL read, answers
+    // twh_timing's word for its address (its own proof: the register's
+    // value as of the read); without POLLING POLL_CTRL reads 0
     reg f_trd_q, f_prd_q;
     always @(posedge clk) begin
-        f_trd_q <= rd && mapped && is_ch && ch_reg <= 3'd2;
-        f_prd_q <= rd && mapped && is_ch && (ch_reg == 3'd3 || ch_reg == 3'd4 || ch_reg == 3'd5);
+        f_trd_q <= rd && mapped && is_ch && (ch_reg <= 3'd2 || (ch_reg == 3'd3 && POLLING != 0));
+        f_prd_q <= rd && mapped && is_ch && (ch_reg == 3'd4 || ch_reg == 3'd5);
     end
     always @(*) if (f_chk_rd) assert(reg_rdata == (f_rdata_q | ({32{f_trd_q}} & t_rdata) |
                                                    ({32{f_prd_q}} & p_rdata)));
@@ -891,7 +899,7 @@ module twh_core #(
                q_r_st == (rd && ch_exists && ch_reg == 3'd5) &&
                (!(q_r_pc || q_r_pr || q_r_st) || q_blk == ch_sel));
     // twh_timing is handed the word the request names, for a read or a write
-    always @(*) if (f_rs && f_h && ch_exists && ch_reg <= 3'd2)
+    always @(*) if (f_rs && f_h && ch_exists && ch_reg <= 3'd3)
         assert(q_blk == ch_sel && q_treg == ch_reg[1:0]);
 
     // The interrupt as registers.md words it, with the sources written out

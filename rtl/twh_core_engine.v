@@ -17,7 +17,9 @@
 //   long before its last period reads it.
 // - STATE: PHASE the engine's phase, BUSY a transaction under way (phases
 //   charge to turnaround), SLOT_FULL a queued command not started; read
-//   with POLL_CTRL and POLL_RESULT on rd_data, a clock after the request.
+//   with POLL_RESULT on rd_data, a clock after the request. POLL_CTRL is
+//   twh_timing's (each channel's fourth word), which the pollers' walker
+//   reads through that memory's port (pc_rd, pc_ch, pc_word).
 // - BUSY (the register): a command queued or running, a transaction on the
 //   line (the engine's `busy`, a poll's too), or a result waiting in its
 //   channel for room in the result FIFO.
@@ -33,24 +35,26 @@ module twh_core_engine #(
     input  wire                   clk,
     input  wire                   rst,
     input  wire                   ms_tick,
-    // twh_timing's reset sweep: this channel's POLL_CTRL takes its reset
-    // value
+    // twh_timing's reset sweep writes (the pollers wait for it)
     input  wire                   sw_we,
-    input  wire [4:0]             sw_ch,
-    input  wire                   sw_pc,     // ... its word is POLL_CTRL's
     input  wire                   tick,
     input  wire                   fall,
     input  wire                   enable,
     input  wire [CHANNELS-1:0]    idle_charge,
-    // POLL_CTRL and POLL_RESULT: an accepted write, a read (the request
-    // stage's), the read's word a clock later
+    // an accepted POLL_CTRL write, a read (the request stage's), the
+    // read's word a clock later
     input  wire [31:0]            wdata,
     input  wire                   pc_wr,
-    input  wire                   rd_ctrl,
+    input  wire                   port_rd,      // the bus reads twh_timing's memory now
     input  wire                   rd_res,
     input  wire                   rd_state,     // STATE of reg_ch
     input  wire [4:0]             reg_ch,
     output wire [31:0]            rd_data,
+    // POLL_CTRL in twh_timing's memory: the walker's read of pc_ch, its
+    // word a clock later
+    output wire                   pc_rd,
+    output wire [4:0]             pc_ch,
+    input  wire [31:0]            pc_word,
     // phase lengths from twh_timing
     output wire [CHANNELS*3-1:0]  nx_ph,        // each channel's phase (twh_timing's NX_PHASE)
     input  wire                   dur_v,
@@ -89,6 +93,7 @@ module twh_core_engine #(
     wire [CHANNELS-1:0]    p_due;
     wire [15:0]            p_cmd;
     wire [CW-1:0]          scan_ch;
+    wire [CW-1:0]          pc_cw;         // the walker's channel
     wire                   p_take, p_res;
     wire [CW-1:0]          p_ch;
     wire [15:0]            p_data;
@@ -126,23 +131,25 @@ module twh_core_engine #(
         .p_count(p_count)
     );
     twh_polls #(.CHANNELS(CHANNELS), .POLLING(POLLING), .RAM_BLOCK(RAM_BLOCK)) u_polls (
-        .clk(clk), .rst(rst), .ms_tick(ms_tick), .sw_we(sw_we), .sw_ch(sw_ch[CW-1:0]),
-        .sw_pc(sw_pc),
+        .clk(clk), .rst(rst), .ms_tick(ms_tick), .sw_we(sw_we),
         .wr(pc_wr), .wr_ch(reg_ch[CW-1:0]), .wr_data(wdata),
-        .rd_ctrl(rd_ctrl), .rd_res(rd_res), .rd_ch(reg_ch[CW-1:0]), .rd_data(p_rdata),
+        .port_rd(port_rd), .rd_res(rd_res), .rd_ch(reg_ch[CW-1:0]), .rd_data(p_rdata),
+        .pc_rd(pc_rd), .pc_ch(pc_cw), .pc_word(pc_word),
         .scan_ch(scan_ch), .poll_cmd(p_cmd), .poll_req(p_due),
         .p_take(p_take), .p_res(p_res), .p_ch(p_ch), .p_data(p_data), .p_status(p_status),
         .p_count(p_count), .sample(poll_sample), .error(poll_error)
     );
     // verilator lint_off UNUSEDSIGNAL
     wire [5:0] r_ch6 = {{(6-CW){1'b0}}, r_ch};    // (CW is 1-5)
+    wire [5:0] pc_ch6 = {{(6-CW){1'b0}}, pc_cw};
     // verilator lint_on UNUSEDSIGNAL
     assign res = {r_tag, r_ch6[4:0], r_status, r_code, r_data};
+    assign pc_ch = pc_ch6[4:0];
 
     // (the dispatcher names an existing channel: the push checked it; the
     // engine checks its queue's room itself, at the visit: `full` unused)
     // verilator lint_off UNUSEDSIGNAL
-    wire [4:0] unused_ch = cmd_ch ^ reg_ch ^ dur_ch ^ sw_ch;
+    wire [4:0] unused_ch = cmd_ch ^ reg_ch ^ dur_ch;
     // verilator lint_on UNUSEDSIGNAL
 
     // STATE of the channel read, a clock after the request stage (as

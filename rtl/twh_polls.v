@@ -1,12 +1,16 @@
 // Every channel's autonomous poller for the time-shared engine, its
-// registers in RAM: POLL_CTRL (bus read and write), POLL_RESULT (bus read),
-// each channel's millisecond timer, and the command the engine sends. Per
+// registers in RAM: POLL_RESULT (bus read), each channel's millisecond
+// timer, and the command the engine sends. POLL_CTRL is each channel's
+// fourth word in twh_timing's memory (the bus writes and reads it there,
+// the walker reads it through that memory's port: pc_rd, pc_ch, pc_word);
+// this module takes its writes (wr) for what they withdraw. Per
 // channel only three flags stay in flip-flops (due, restart, pr_ok), so a channel
 // costs a few cells here rather than a poller's eighty flip-flops.
 //
 // - A walker steps every channel's timer once a millisecond (three clocks a
-//   channel: read, step, commit; a bus read of POLL_CTRL takes the memory's
-//   read port first and the walker waits). Polls fall due on a fixed grid: every INTERVAL_MS
+//   channel: read, step, commit; a bus read of twh_timing's memory,
+//   TIMING0-2 or POLL_CTRL, takes its port first and the walker waits).
+//   Polls fall due on a fixed grid: every INTERVAL_MS
 //   from the first millisecond tick after EN was set. A channel's command
 //   is copied for the engine when its poll falls due and only then (never
 //   while one is due), so the engine reads a command that was checked as
@@ -34,12 +38,10 @@
 //   The memory holds the answer's bytes whatever its status; the read
 //   shows them only with OK or BAD_CHECKSUM (16 cells fewer than a zero
 //   in front of the write).
-// - Reset: twh_timing's reset sweep names every channel in turn (sw_we,
-//   sw_ch) and POLL_CTRL is written with its reset value, from wr_data in
-//   the clock of the channel's sweep that carries it (sw_pc: the core's
-//   data register holds it then, so no multiplexer stands in front of the
-//   memory); the register port takes no request and the walker does not
-//   start until the sweep is over (the timers need none: `restart`).
+// - Reset: twh_timing's reset sweep writes every channel's POLL_CTRL with
+//   its reset value; the register port takes no request and the walker
+//   does not start until its writes are over (sw_we; the timers need
+//   none: `restart`).
 `default_nettype none
 `include "twh_defs.vh"
 module twh_polls #(
@@ -53,19 +55,25 @@ module twh_polls #(
     input  wire                clk,
     input  wire                rst,
     input  wire                ms_tick,
-    // the reset sweep (twh_timing): this channel's POLL_CTRL takes its
-    // reset value; no bus access, poll or result comes while it runs
+    // the reset sweep (twh_timing) writes: no bus access, poll or result
+    // comes while it runs
     input  wire                sw_we,
-    input  wire [CW-1:0]       sw_ch,
-    input  wire                sw_pc,        // ... and wr_data is POLL_CTRL's reset value
     // the core's request stage: an accepted POLL_CTRL write, a read
     input  wire                wr,
     input  wire [CW-1:0]       wr_ch,
-    input  wire [31:0]         wr_data,      // ... or with sw_we and sw_pc POLL_CTRL's reset value
-    input  wire                rd_ctrl,      // POLL_CTRL of rd_ch
+    // (its EN bit: what a write withdraws; the proof follows the word)
+    // verilator lint_off UNUSEDSIGNAL
+    input  wire [31:0]         wr_data,
+    // verilator lint_on UNUSEDSIGNAL
+    input  wire                port_rd,      // the bus reads twh_timing's memory now
     input  wire                rd_res,       // POLL_RESULT of rd_ch
     input  wire [CW-1:0]       rd_ch,
     output wire [31:0]         rd_data,      // a clock later; 0 after no read
+    // POLL_CTRL in twh_timing's memory: the walker reads pc_ch's now, its
+    // word comes a clock later
+    output wire                pc_rd,
+    output wire [CW-1:0]       pc_ch,
+    input  wire [31:0]         pc_word,
     // the engine
     input  wire [CW-1:0]       scan_ch,      // its read address (the engine's S1)
     output wire [15:0]         poll_cmd,     // that channel's {payload, code}, a clock later
@@ -86,34 +94,24 @@ module twh_polls #(
     reg          w_on, w_pend, w_dirty;
     reg [1:0]    w_s;           // 0 read, 1 step (from the words read), 2 commit
     reg [CW-1:0] w_ch;
-    wire         w_read = w_on && w_s == 2'd0 && !rd_ctrl;   // the walker reads this clock
-    // POLL_CTRL and the engine's copy of the command (below) are memories
-    // of this module, as twh_ram's, so that its proof can name their words
-    // (g_mem.pc_mem, g_mem.cm_mem: one label for either style)
-    reg  [31:0]  pc_rd;
+    wire         w_read = w_on && w_s == 2'd0 && !port_rd;   // the walker reads this clock
+    assign pc_rd = w_read;
+    assign pc_ch = w_ch;
+    // the engine's copy of the command (below) is a memory of this module,
+    // as twh_ram's, so that its proof can name its words (g_mem.cm_mem:
+    // one label for either style)
     reg  [15:0]  cm_rd;
     wire         cm_we;
-    // POLL_CTRL's write port: the bus's, or the sweep's reset value (both
-    // on wr_data)
-    wire         pc_we = (wr || (sw_we && sw_pc)) && POLLING != 0;
-    wire [CW-1:0] pc_wa = sw_we ? sw_ch : wr_ch;
-    wire [31:0]  pc_wd = wr_data;
     generate
         if (RAM_BLOCK != 0) begin : g_mem
-            (* ram_style = "block" *) (* no_rw_check *) reg [31:0] pc_mem [0:(1 << CW) - 1];
             (* ram_style = "block" *) (* no_rw_check *) reg [15:0] cm_mem [0:(1 << CW) - 1];
             always @(posedge clk) begin
-                if (pc_we) pc_mem[pc_wa] <= pc_wd;
-                pc_rd <= pc_mem[rd_ctrl ? rd_ch : w_ch];
                 if (cm_we) cm_mem[w_ch] <= pc_w[15:0];
                 cm_rd <= cm_mem[scan_ch];
             end
         end else begin : g_mem
-            (* ram_style = "distributed" *) (* no_rw_check *) reg [31:0] pc_mem [0:(1 << CW) - 1];
             (* ram_style = "distributed" *) (* no_rw_check *) reg [15:0] cm_mem [0:(1 << CW) - 1];
             always @(posedge clk) begin
-                if (pc_we) pc_mem[pc_wa] <= pc_wd;
-                pc_rd <= pc_mem[rd_ctrl ? rd_ch : w_ch];
                 if (cm_we) cm_mem[w_ch] <= pc_w[15:0];
                 cm_rd <= cm_mem[scan_ch];
             end
@@ -136,7 +134,7 @@ module twh_polls #(
     // the channels is off it too)
     reg         rs_q;
     always @(posedge clk) if (w_read) rs_q <= restart[w_ch];
-    assign      pc_w   = pc_rd;
+    assign      pc_w   = pc_word;
     wire        p_en   = pc_w[31];
     wire [14:0] p_iv   = pc_w[30:16];
     wire        rs     = rs_q;
@@ -199,8 +197,8 @@ module twh_polls #(
     reg          due_q;
     always @(posedge clk) due_q <= due[w_ch] && !(p_take && p_ch == w_ch);
     // The command is copied at the step, from the word read, while the
-    // memory's register still holds it (a bus read of POLL_CTRL may take
-    // the read port in the step's clock; not in the read's), when the poll
+    // memory's register still holds it (a bus read may take the read port
+    // in the step's clock; not in the read's), when the poll
     // falls due and none is (a poll taken in this clock has had its
     // command: the engine read it a clock ago). The commit raises due only
     // after a copy (`cm_did`); a write to the channel in between stops
@@ -270,17 +268,13 @@ module twh_polls #(
     // (POLL_RESULT before the channel's first result reads 0: the mask
     // is taken with the read, so a result written in the read's clock
     // comes after it, as the memory's word does)
-    reg        q_ctrl, q_res;
-    always @(posedge clk) begin
-        q_ctrl <= !rst && rd_ctrl;
-        q_res  <= !rst && rd_res && pr_ok[rd_ch];
-    end
+    reg        q_res;
+    always @(posedge clk) q_res <= !rst && rd_res && pr_ok[rd_ch];
     // (the answer's data only with OK or BAD_CHECKSUM: the engine hands
     // over the bytes whatever the status, and the mask is here, in the
     // select of the read's AND-OR, not in front of the memory)
     wire        pr_dok = `TWH_ST_HAS_DATA(pr_rd[19:16]);
-    assign rd_data = ({32{q_ctrl}} & (POLLING != 0 ? pc_rd : 32'd0)) |
-                     ({32{q_res && POLLING != 0}} & {pr_rd[31:16], pr_rd[15:0] & {16{pr_dok}}});
+    assign rd_data = {32{q_res && POLLING != 0}} & {pr_rd[31:16], pr_rd[15:0] & {16{pr_dok}}};
 
 `ifdef FORMAL
     // ================================================================ formal
@@ -298,38 +292,43 @@ module twh_polls #(
     endfunction
     always @(*) begin
         if (wr && wr_data[31]) assume(f_ro(wr_data[7:0]));
-        // the core's data register holds POLL_CTRL's reset value while the
-        // sweep writes it (twh_core:port proves it)
-        if (sw_we && sw_pc) assume(wr_data == {1'b0, 15'd1000, 8'hAA, 8'h44});   // (written out)
         assume(wr_ch < CHANNELS && rd_ch < CHANNELS && scan_ch < CHANNELS && p_ch < CHANNELS);
     end
     (* anyconst *) reg [CW-1:0] f_n;
     always @(*) assume(f_n < CHANNELS);
-    // the reset sweep, as twh_timing runs it and the core waits for it: on
-    // from reset until it ends, then never again before a reset; every
-    // channel named with POLL_CTRL's word (sw_pc) before it ends; no bus
-    // access, poll or result while it runs (any order, any length: more
-    // than the real sweep's)
+    // the reset sweep's writes, as twh_timing runs them and the core waits
+    // for them: on from reset until they end, then never again before a
+    // reset; no bus access, poll or result while they run (any length)
     reg                f_swo;
-    reg [CHANNELS-1:0] f_swd;
-    integer            f_i;
     always @(posedge clk) begin
-        if (rst) begin
-            f_swo <= 1'b1;
-            f_swd <= {CHANNELS{1'b0}};
-        end else begin
-            if (!sw_we) f_swo <= 1'b0;
-            for (f_i = 0; f_i < CHANNELS; f_i = f_i + 1)
-                if (sw_we && sw_pc && sw_ch == f_i) f_swd[f_i] <= 1'b1;
-        end
+        if (rst)         f_swo <= 1'b1;
+        else if (!sw_we) f_swo <= 1'b0;
     end
     always @(*) begin
         if (f_ok && !rst) begin
             if (!f_swo) assume(!sw_we);
-            if (f_swo && !sw_we) assume(f_swd == {CHANNELS{1'b1}});
-            if (f_swo) assume(!wr && !rd_ctrl && !rd_res && !p_take && !p_res);
+            if (f_swo) assume(!wr && !port_rd && !rd_res && !p_take && !p_res);
         end
     end
+    // POLL_CTRL of the followed channel as twh_timing's memory holds it
+    // (its proof: the sweep writes the reset value before the walker
+    // starts, then each write is stored), and the walker's read of it:
+    // the word as of the read's clock, or as a write in that clock leaves
+    // it (twh_timing's proof asserts that of its port)
+    localparam [31:0] F_PC_DEF = {1'b0, 15'd1000, 8'hAA, 8'h44};   // (written out)
+    reg [31:0] f_pc, f_pa, f_pb;
+    reg        f_pr = 1'b0;
+    always @(posedge clk) begin
+        if (rst)                    f_pc <= F_PC_DEF;
+        else if (wr && wr_ch == f_n) f_pc <= wr_data;
+        f_pr <= pc_rd && pc_ch == f_n;
+        f_pa <= f_pc;
+        f_pb <= (wr && wr_ch == f_n) ? wr_data : f_pc;
+    end
+    always @(*) if (f_ok && f_pr) assume(pc_word == f_pa || pc_word == f_pb);
+    // (twh_timing's proof assumes it: the walker's read never meets a bus
+    // read, which takes the port, and only an existing channel's)
+    always @(*) if (f_ok && pc_rd) assert(!port_rd && pc_ch < CHANNELS);
     reg [CW-1:0] f_sc;            // the channel the engine's read named a clock ago
     reg          f_sd;            // ... and that channel's request then
     reg          f_past = 1'b0;
@@ -346,25 +345,26 @@ module twh_polls #(
             f_prs <= {pr_wd[31:16], (p_status == `TWH_ST_OK || p_status == `TWH_ST_BAD_CHECKSUM) ?
                                     pr_wd[15:0] : 16'd0};
         f_prq  <= f_prs;
-        f_rq   <= !rst && rd_res && !rd_ctrl && rd_ch == f_n;
+        f_rq   <= !rst && rd_res && rd_ch == f_n;
     end
     always @(*) begin
         if (f_ok && POLLING != 0) begin
             // every POLL_CTRL word that polls names a read-only command
-            if ((!f_swo || f_swd[f_n]) && g_mem.pc_mem[f_n][31]) assert(f_ro(g_mem.pc_mem[f_n][7:0]));
+            if (f_pc[31]) assert(f_ro(f_pc[7:0]));
             // EN = 0 stored: no poll due or about to fall due (a write with
             // EN = 0 withdraws it at once, one in the commit's clock too)
-            if ((!f_swo || f_swd[f_n]) && !g_mem.pc_mem[f_n][31])
+            if (!f_pc[31])
                 assert(!due[f_n] && !(set_due && set_ch == f_n));
             // nothing walks or falls due before the sweep is over
             if (f_swo) assert(!w_on && due == {CHANNELS{1'b0}} && !set_due);
             // the walker's word is the memory's, unless a write met its read;
             // the command its step took is read-only when it falls due
-            if (w_on && w_s == 2'd1 && !w_dirty)
-                assert(pc_rd == g_mem.pc_mem[w_ch] && rs_q == restart[w_ch]);
+            if (w_on && w_s == 2'd1) assert(f_pr == (w_ch == f_n));
+            if (w_on && w_s == 2'd1 && !w_dirty) assert(rs_q == restart[w_ch]);
+            if (w_on && w_s == 2'd1 && !w_dirty && w_ch == f_n) assert(pc_word == f_pc);
             // (the step's word, if it polls, was stored, so its command is
             // read-only; a copy leaves no poll due until the commit)
-            if (w_on && w_s == 2'd1 && w_ch == f_n && pc_rd[31]) assert(f_ro(pc_rd[7:0]));
+            if (w_on && w_s == 2'd1 && w_ch == f_n && pc_word[31]) assert(f_ro(pc_word[7:0]));
             if (cm_did) assert(w_on && w_s == 2'd2);
             if (cm_did && w_ch == f_n) assert(f_ro(g_mem.cm_mem[f_n][7:0]) && !due[f_n]);
             if (w_on && w_s == 2'd2 && !w_dirty) assert(due_q == due[w_ch]);

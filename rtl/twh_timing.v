@@ -11,20 +11,28 @@
 //   takes the port; the fetch of that clock is dropped and comes round
 //   again (three iCE40 blocks of 16 bits rather than a copy for each side's
 //   two and three).
+// - POLL (the core's POLLING): each channel's fourth word, which no timing
+//   register uses, is its POLL_CTRL. The bus writes and reads it as
+//   register 3, and the pollers' walker (twh_polls) reads it once a
+//   millisecond (pc_rd, pc_ch; the word on pc_word a clock later), taking
+//   the port as a bus read does (the walker waits for a bus read, the fetch
+//   of that clock is dropped). Kept here rather than in a memory of the
+//   pollers, POLL_CTRL costs no block RAM of its own (two iCE40 blocks) and
+//   no term of its own in the register read's AND-OR (a LUT a bit).
 // - Reset: a sweep writes every word's default, one word a clock (`SW`
 //   clocks: four words a channel, rounded up to a power of two), then waits
 //   as long again so that the fetch has handed every channel its lengths
 //   from the swept words; `ready` is low until then, and the core's
 //   register port takes no request while it is (so no bus write is swept
-//   over). The same sweep writes POLL_CTRL's reset value
-//   (`sw_we`, `sw_ch`: twh_polls). A memory written back to its defaults
+//   over), and the pollers' walker does not start until its writes are
+//   over (`sw_we`). A memory written back to its defaults
 //   costs no cells a channel, where a "written since reset" flag a word
 //   and its multiplexers cost about six (docs/engine.md). The word the
 //   sweep writes is the core's: its request stage's data register holds
-//   the default of the register `sw_reg` names (and POLL_CTRL's reset
-//   value at `sw_reg` = 3, the word no register uses), so no multiplexer
+//   the default of the register `sw_reg` names (POLL_CTRL's reset value
+//   at `sw_reg` = 3), so no multiplexer
 //   stands between that register and the memory's write port (a LUT a
-//   bit on the iCE40s, here and in front of POLL_CTRL's in twh_polls).
+//   bit on the iCE40s).
 // - The core's request stage writes (its verdict taken: in the window, or
 //   lab) and reads (the address in that clock, the word a clock later on
 //   rd_data, from the block RAM's own register). One request is in the
@@ -39,7 +47,7 @@
 //   when dur_fld names the field it needs, so a length is never taken from
 //   a stale fetch; a channel's field is fetched again within CHANNELS + 3
 //   clocks of a change of its value or of nx_fld, and a round later for
-//   each bus read of a timing register in between.
+//   each read of the port in between (a bus read, the walker's).
 `default_nettype none
 `include "twh_defs.vh"
 module twh_timing #(
@@ -52,31 +60,36 @@ module twh_timing #(
     // and the field its successor loads is decoded after the fetch's
     // channel multiplexer (one decode rather than one a channel)
     parameter integer NX_PHASE = 0,
-    // 1: run the reset sweep with fixed timing too (PROG = 0), for the
-    // pollers' registers (the core: the engine with POLLING)
-    parameter integer SWEEP    = 1
+    // 1: each channel's fourth word is its POLL_CTRL (the core's POLLING),
+    // and the reset sweep runs with fixed timing too (PROG = 0)
+    parameter integer POLL     = 0
 ) (
     input  wire                  clk,
     input  wire                  rst,
-    // the reset sweep: the register port may take requests (ready); the
-    // channel whose registers are written with their reset values (sw_we)
+    // the reset sweep: the register port may take requests (ready); a
+    // word is written with its register's reset value (sw_we), the
+    // core's data register holding the default of sw_reg's
     output wire                  ready,
     output wire                  sw_we,
-    output wire [4:0]            sw_ch,
-    output wire [1:0]            sw_reg,     // ... and the register (3: POLL_CTRL's)
+    output wire [1:0]            sw_reg,     // (3: POLL_CTRL's)
     input  wire                  lab,        // lengths run unclamped
     // bus write (the core's verdict taken: the value is to be stored)
     input  wire                  wr,
     input  wire [4:0]            wr_ch,      // 0 .. CHANNELS-1 (up to 32)
-    input  wire [1:0]            wr_reg,     // 0-2: TIMING0-2
+    input  wire [1:0]            wr_reg,     // 0-2: TIMING0-2, 3: POLL_CTRL (POLL)
     input  wire [31:0]           wr_data,    // ... or with sw_we the default sw_reg names
     input  wire [3:0]            wr_cmp,     // twh_window's flags of wr_data (0 with sw_we)
-    // bus read (rd: a read of TIMING0-2 now, the port is the bus's; the
-    // word of rd_ch, rd_reg a clock later)
+    // bus read (rd: a read of TIMING0-2, or POLL_CTRL with POLL, now: the
+    // port is the bus's; the word of rd_ch, rd_reg a clock later)
     input  wire                  rd,
     input  wire [4:0]            rd_ch,
     input  wire [1:0]            rd_reg,
     output wire [31:0]           rd_data,    // one clock after rd
+    // the pollers' walker (POLL): POLL_CTRL of pc_ch read now (never with
+    // rd or the sweep's write), its word on pc_word a clock later
+    input  wire                  pc_rd,
+    input  wire [4:0]            pc_ch,
+    output wire [31:0]           pc_word,
     // engines
     input  wire [CHANNELS*3-1:0] nx_fld,     // per channel: field 1-6 it needs next
                                              // (NX_PHASE: its phase)
@@ -111,7 +124,7 @@ module twh_timing #(
     // the word of channel c's register r is {c[AW-3:0], r}; the channel's
     // bits above AW-3 are unused (0 for every channel that exists)
     // verilator lint_off UNUSEDSIGNAL
-    wire unused_ch = ^wr_ch ^ ^rd_ch;
+    wire unused_ch = ^wr_ch ^ ^rd_ch ^ ^pc_ch;
     // verilator lint_on UNUSEDSIGNAL
     // {window flags, value}: the flags twh_window took of the value
     (* no_rw_check *) reg [35:0] mem [0:NW-1];
@@ -123,7 +136,7 @@ module twh_timing #(
     // sw_n: the word written (first half, sw_n[AW] = 0), then the wait
     // for the fetch's round (second half); a narrow up-counter of its own
     // with the end a carry, not a compare against CHANNELS
-    localparam integer SW_ON = (PROG != 0 || SWEEP != 0) ? 1 : 0;
+    localparam integer SW_ON = (PROG != 0 || POLL != 0) ? 1 : 0;
     reg  [AW:0] sw_n;
     reg         sw_on;
     always @(posedge clk) begin
@@ -138,19 +151,22 @@ module twh_timing #(
     assign ready = !sw_on;
     assign sw_we = sw_on && !sw_n[AW];
     wire [AW-1:0] sw_a = sw_n[AW-1:0];
-    assign sw_ch = {{(7-AW){1'b0}}, sw_a[AW-1:2]};
     assign sw_reg = sw_a[1:0];
     // (the port waits for ready, so a bus write never meets the sweep)
     always @(posedge clk)
         if (wr || sw_we) mem[sw_we ? sw_a : wa] <= {wr_cmp, wr_data};
     wire [31:0] rb_word = m_rd[31:0];
+    assign pc_word = m_rd[31:0];
+    // (the walker's read takes the port after a bus read's: its address)
+    wire          p_rd = pc_rd && POLL != 0;
+    wire [AW-1:0] pa   = {pc_ch[AW-3:0], 2'b11};
     // (words past TIMING2 and past the last channel are swept too, and
     // never read)
 
     // ------------------------------------------------------------ bus read
     reg  [1:0]  rb_reg;
     always @(posedge clk) rb_reg <= rd_reg;
-    assign rd_data = (PROG != 0) ? rb_word : def_word(rb_reg);
+    assign rd_data = (PROG != 0 || (POLL != 0 && rb_reg == 2'd3)) ? rb_word : def_word(rb_reg);
 
     // ------------------------------------------------------------ fetch
     // stage 0: the channel in turn names its field and the word is read
@@ -199,19 +215,19 @@ module twh_timing #(
             wire [2:0] a_fld = (NX_PHASE != 0) ? `TWH_FLD_OF(a_nx) : a_nx;
             wire [1:0] a_reg = (a_fld <= 3'd2) ? 2'd0 : (a_fld <= 3'd4) ? 2'd1 : 2'd2;
             always @(posedge clk)
-                m_rd <= mem[rd ? ra : {a_ch[AW-3:0], a_reg}];
+                m_rd <= mem[rd ? ra : p_rd ? pa : {a_ch[AW-3:0], a_reg}];
             // (a word read while the sweep writes may not be swept yet:
             // nothing is handed over then)
             always @(posedge clk) begin
-                e_ok      <= !rst && !rd && !sw_we && a_ok && a_fld != 3'd0 && a_fld <= 3'd6;
+                e_ok      <= !rst && !rd && !p_rd && !sw_we && a_ok && a_fld != 3'd0 && a_fld <= 3'd6;
                 e_ch      <= a_ch;
                 e_fld     <= a_fld;
             end
         end else begin : g_direct
             always @(posedge clk)
-                m_rd <= mem[rd ? ra : {f_ch[AW-3:0], f_reg}];
+                m_rd <= mem[rd ? ra : p_rd ? pa : {f_ch[AW-3:0], f_reg}];
             always @(posedge clk) begin
-                e_ok      <= !rst && !rd && !sw_we && f_fld != 3'd0 && f_fld <= 3'd6;
+                e_ok      <= !rst && !rd && !p_rd && !sw_we && f_fld != 3'd0 && f_fld <= 3'd6;
                 e_ch      <= f_ch;
                 e_fld     <= f_fld;
             end
@@ -309,7 +325,8 @@ module twh_timing #(
         case (r)
             2'd0:    f_def = {16'd1000, 16'd8000};
             2'd1:    f_def = {16'd4000, 16'd2000};
-            default: f_def = {16'd2000, 16'd3000};
+            2'd2:    f_def = {16'd2000, 16'd3000};
+            default: f_def = {1'b0, 15'd1000, 8'hAA, 8'h44};     // POLL_CTRL's
         endcase
     endfunction
     function [15:0] f_clamp;
@@ -324,17 +341,22 @@ module twh_timing #(
 
     integer f_c;
     always @(*) begin
-        // (with PROG = 0 the core never writes: its PROG_TIMING is 0)
-        if (wr) assume(PROG != 0 && wr_reg <= 2'd2 && wr_ch < CHANNELS &&
-                       wr_cmp == f_flags(wr_reg, wr_data));
-        // a bus read names an existing channel's TIMING0-2, and a request
-        // is a read or a write
-        if (rd) assume(!wr && rd_reg <= 2'd2 && rd_ch < CHANNELS);
+        // (with PROG = 0 the core never writes TIMING0-2: its PROG_TIMING
+        // is 0; POLL_CTRL, register 3, only with POLL, with any flags)
+        if (wr) assume(wr_ch < CHANNELS &&
+                       (wr_reg <= 2'd2 ? PROG != 0 && wr_cmp == f_flags(wr_reg, wr_data)
+                                       : POLL != 0));
+        // a bus read names an existing channel's TIMING0-2 (or POLL_CTRL,
+        // POLL), and a request is a read or a write
+        if (rd) assume(!wr && (rd_reg <= 2'd2 || POLL != 0) && rd_ch < CHANNELS);
+        // the walker reads only with POLL, an existing channel, while the
+        // bus does not read and the sweep does not write
+        if (pc_rd) assume(POLL != 0 && !rd && !sw_we && pc_ch < CHANNELS);
         // the core's register port takes no request during the sweep,
         // and its data register holds the default of the word swept (no
         // window flags: the defaults lie in their windows)
         if (!ready) assume(!wr && !rd);
-        if (sw_we && sw_reg != 2'd3) assume(wr_data == f_def(sw_reg) && wr_cmp == 4'd0);
+        if (sw_we) assume(wr_data == f_def(sw_reg) && wr_cmp == 4'd0);
         // (a phase, NX_PHASE, is any of the eight)
         for (f_c = 0; f_c < CHANNELS; f_c = f_c + 1)
             if (NX_PHASE == 0) assume(nx_fld[f_c*3 +: 3] >= 3'd1 && nx_fld[f_c*3 +: 3] <= 3'd6);
@@ -349,7 +371,7 @@ module twh_timing #(
     // by the address formula: a formula that put two registers in one word
     // would then break the word's value)
     wire f_wr_a = wr && wr_ch == f_ach && wr_reg == f_areg;
-    always @(*) assume(f_ach < CHANNELS && f_areg <= 2'd2);
+    always @(*) assume(f_ach < CHANNELS && (f_areg <= 2'd2 || POLL != 0));
     reg        f_w;
     reg [31:0] f_val;
     always @(posedge clk) begin
@@ -368,17 +390,20 @@ module twh_timing #(
             // the sweep has written the word's default (and the defaults
             // lie in their windows: no flags) or a write its value, which
             // only comes once the sweep is over
-            if (PROG != 0 && (!sw_on || sw_n[AW] || sw_n[AW-1:0] > f_a))
+            if (PROG != 0 && f_areg != 2'd3 && (!sw_on || sw_n[AW] || sw_n[AW-1:0] > f_a))
                 assert(mem[f_a] == (f_w ? {f_flags(f_areg, f_val), f_val}
                                         : {4'd0, f_def(f_areg)}));
+            // (POLL_CTRL's flags are never read)
+            if (POLL != 0 && f_areg == 2'd3 && (!sw_on || sw_n[AW] || sw_n[AW-1:0] > f_a))
+                assert(mem[f_a][31:0] == f_now);
             if (f_w) assert(!sw_on);
             // (the core's stand-in jobs take this as given)
             if (sw_we) assert(!ready);
-            if (PROG == 0 && SWEEP == 0) assert(!sw_on);
+            if (PROG == 0 && POLL == 0) assert(!sw_on);
             // the fetch takes every channel in turn
             assert(f_ch < CHANNELS);
-            // fixed timing: nothing is ever written
-            if (PROG == 0) assert(!f_w);
+            // fixed timing: no timing register is ever written
+            if (PROG == 0 && f_areg != 2'd3) assert(!f_w);
         end
     end
 
@@ -392,6 +417,17 @@ module twh_timing #(
         f_rd_want <= f_now;
     end
     always @(*) if (f_rd) assert(rd_data == f_rd_want);
+
+    // ---- the walker reads POLL_CTRL's value as of its read's clock, or
+    // as a bus write in that clock leaves it (the pollers read again then)
+    reg        f_pr = 1'b0;
+    reg [31:0] f_pr_want, f_pr_wn;
+    always @(posedge clk) begin
+        f_pr      <= f_ok && !rst && pc_rd && pc_ch == f_ach && f_areg == 2'd3;
+        f_pr_want <= f_now;
+        f_pr_wn   <= f_wr_a ? wr_data : f_now;
+    end
+    always @(*) if (f_pr) assert(pc_word == f_pr_want || pc_word == f_pr_wn);
 
     // ---- every fetch hands its channel the field it named, clamped into
     // the field's window unless lab was set in the clock after the read
@@ -413,7 +449,7 @@ module twh_timing #(
         f0_ok  <= f_ok && !rst;
         f0_ch  <= f_ch;
         f0_fld <= f_fld;
-        f1_ok  <= r_ok && !rst && !rd && !sw_we;
+        f1_ok  <= r_ok && !rst && !rd && !pc_rd && !sw_we;
         f1_hit <= r_ch == f_ach && r_reg == f_areg;
         f1_ch  <= r_ch;
         f1_fld <= r_fld;

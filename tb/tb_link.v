@@ -119,9 +119,10 @@ module tb_link #(
     wire [4:0]  dur_ch;
     wire [31:0] t_rd_unused;
     twh_timing #(.CHANNELS(1)) u_timing (
-        .clk(clk), .rst(rst), .ready(t_ready), .sw_we(), .sw_ch(), .sw_reg(), .lab(cfg_unlock),
+        .clk(clk), .rst(rst), .ready(t_ready), .sw_we(), .sw_reg(), .lab(cfg_unlock),
         .wr(t_wr), .wr_ch(5'd0), .wr_reg(t_reg), .wr_data(t_word), .wr_cmp(t_cmp),
         .rd(1'b0), .rd_ch(5'd0), .rd_reg(2'd0), .rd_data(t_rd_unused),
+        .pc_rd(1'b0), .pc_ch(5'd0), .pc_word(),
         .nx_fld(nx_fld), .dur_we(dur_we), .dur_v(dur_v), .dur_ch(dur_ch), .dur(dur),
         .dur_fld(dur_fld)
     );

@@ -58,10 +58,11 @@ module tb_link_smoke;
     wire [31:0] t_sw_word = (t_sw_reg == 2'd0) ? `TWH_TIMING0_DEF :
                             (t_sw_reg == 2'd1) ? `TWH_TIMING1_DEF : `TWH_TIMING2_DEF;
     twh_timing #(.CHANNELS(1)) u_timing (
-        .clk(clk), .rst(rst), .ready(t_ready), .sw_we(), .sw_ch(), .sw_reg(t_sw_reg),
+        .clk(clk), .rst(rst), .ready(t_ready), .sw_we(), .sw_reg(t_sw_reg),
         .lab(1'b0),
         .wr(1'b0), .wr_ch(5'd0), .wr_reg(2'd0), .wr_data(t_sw_word), .wr_cmp(4'd0),
         .rd(1'b0), .rd_ch(5'd0), .rd_reg(2'd0), .rd_data(t_rd_unused),
+        .pc_rd(1'b0), .pc_ch(5'd0), .pc_word(),
         .nx_fld(nx_fld), .dur_we(dur_we), .dur_v(dur_v), .dur_ch(dur_ch), .dur(dur),
         .dur_fld(dur_fld)
     );
