@@ -52,6 +52,9 @@ module twh_core_engine #(
     output wire [4:0]             pc_ch,
     input  wire [31:0]            pc_word,
     output wire [CHANNELS*3-1:0]  nx_ph,
+    output wire                   sc_v,
+    output wire [4:0]             sc_ch,
+    output wire [2:0]             sc_ph,
     input  wire                   dur_v,
     input  wire [4:0]             dur_ch,
     input  wire [15:0]            dur,
@@ -173,6 +176,10 @@ module twh_core_engine #(
     reg rd_q;
     always @(posedge clk) rd_q <= !rst && (rd_res || rd_state);
     assign pc_rd       = 1'b0;
+    // (the stand-in jobs cut twh_timing: no visit names a fetch here)
+    assign sc_v        = 1'b0;
+    assign sc_ch       = 5'd0;
+    assign sc_ph       = 3'd0;
     assign pc_ch       = 5'd0;
     assign rd_data     = rd_q ? f_rd : 32'd0;
     assign nx_ph       = f_nx;

@@ -459,6 +459,9 @@ module twh_core #(
     wire [CHANNELS-1:0] c_sample, c_sbusy;
     wire                c_poll_err;       // a poll's result with an error status (any channel)
     wire [CHANNELS*3-1:0] c_nx_fld;   // per channel: its phase (twh_timing decodes the field)
+    wire                  c_sc_v;
+    wire [4:0]            c_sc_ch;
+    wire [2:0]            c_sc_ph;
 
     // A channel register write starts from the request stage: its value's
     // window flags were taken on the way in, for the register addressed (the
@@ -499,6 +502,7 @@ module twh_core #(
         .wr_data(q_wdata), .wr_cmp(q_cmp),
         .rd(q_r_t || p_rd), .rd_ch(q_blk), .rd_reg(q_treg), .rd_data(t_rdata),
         .pc_rd(pc_rd), .pc_ch(pc_ch), .pc_word(pc_word),
+        .sc_v(c_sc_v), .sc_ch(c_sc_ch), .sc_ph(c_sc_ph),
         .nx_fld(c_nx_fld), .dur_we(t_dur_we), .dur_v(t_dur_v), .dur_ch(t_dur_ch), .dur(t_dur),
         .dur_fld(t_dur_fld)
     );
@@ -510,7 +514,7 @@ module twh_core #(
         .wdata(q_wdata), .pc_wr(q_wp && wr && q_win_p), .port_rd(q_r_t || p_rd),
         .rd_res(q_r_pr), .rd_state(q_r_st), .reg_ch(q_blk), .rd_data(p_rdata),
         .pc_rd(pc_rd), .pc_ch(pc_ch), .pc_word(pc_word),
-        .nx_ph(c_nx_fld), .dur_v(t_dur_v), .dur_ch(t_dur_ch), .dur(t_dur),
+        .nx_ph(c_nx_fld), .sc_v(c_sc_v), .sc_ch(c_sc_ch), .sc_ph(c_sc_ph), .dur_v(t_dur_v), .dur_ch(t_dur_ch), .dur(t_dur),
         .dur_fld(t_dur_fld), .poll_sample(c_sample), .poll_error(c_poll_err),
         .cmd_valid(dispatch), .cmd_ch(disp_ch), .cmd_code(h_cmd),
         .cmd_payload(h_payload), .cmd_tag(h_tag), .cmd_skip(h_skip),

@@ -13,7 +13,9 @@
 //   phase loads (decoded from the engine's `phase`: NX_PHASE) and clamps
 //   it; this module writes each length into the engine's timing RAM. A
 //   phase lasts at least 900 us (outside the lab unlock), and its
-//   successor's field is fetched within CHANNELS + 6 clocks of its start,
+//   successor's field is fetched at the visit that starts it and at every
+//   visit after (one channel: every clock; the engine's write-back names
+//   the channel and its phase: sc_v, sc_ch, sc_ph),
 //   long before its last period reads it.
 // - STATE: PHASE the engine's phase, BUSY a transaction under way (phases
 //   charge to turnaround), SLOT_FULL a queued command not started; read
@@ -57,6 +59,9 @@ module twh_core_engine #(
     input  wire [31:0]            pc_word,
     // phase lengths from twh_timing
     output wire [CHANNELS*3-1:0]  nx_ph,        // each channel's phase (twh_timing's NX_PHASE)
+    output wire                   sc_v,
+    output wire [4:0]             sc_ch,
+    output wire [2:0]             sc_ph,
     input  wire                   dur_v,
     input  wire [4:0]             dur_ch,
     input  wire [15:0]            dur,
@@ -94,6 +99,7 @@ module twh_core_engine #(
     wire [15:0]            p_cmd;
     wire [CW-1:0]          scan_ch;
     wire [CW-1:0]          pc_cw;         // the walker's channel
+    wire [CW-1:0]          sc_cw;
     wire                   p_take, p_res;
     wire [CW-1:0]          p_ch;
     wire [15:0]            p_data;
@@ -126,7 +132,7 @@ module twh_core_engine #(
         .line_o(line_o), .line_oe(line_oe), .line_i(line_i),
         .busy(e_busy), .pending(e_pending), .st_ch(reg_ch[CW-1:0]), .st_pend(st_pend),
         .cancelling(cancelling),
-        .phase(e_phase), .fld(e_fld),
+        .phase(e_phase), .fld(e_fld), .sc_v(sc_v), .sc_ch(sc_cw), .sc_ph(sc_ph),
         .p_take(p_take), .p_res(p_res), .p_ch(p_ch), .p_data(p_data), .p_status(p_status),
         .p_count(p_count)
     );
@@ -142,9 +148,11 @@ module twh_core_engine #(
     // verilator lint_off UNUSEDSIGNAL
     wire [5:0] r_ch6 = {{(6-CW){1'b0}}, r_ch};    // (CW is 1-5)
     wire [5:0] pc_ch6 = {{(6-CW){1'b0}}, pc_cw};
+    wire [5:0] sc_ch6 = {{(6-CW){1'b0}}, sc_cw};
     // verilator lint_on UNUSEDSIGNAL
     assign res = {r_tag, r_ch6[4:0], r_status, r_code, r_data};
     assign pc_ch = pc_ch6[4:0];
+    assign sc_ch = sc_ch6[4:0];
 
     // (the dispatcher names an existing channel: the push checked it; the
     // engine checks its queue's room itself, at the visit: `full` unused)

@@ -142,6 +142,10 @@ module twh_engine #(
     output wire                cancelling,     // a flush's cancels are still to come
     output wire [CHANNELS*3-1:0] phase,        // each channel's phase as its last visit left it
     output wire [CHANNELS*3-1:0] fld,          // the timing field its next phase loads
+    // each visit's write-back: its channel and the phase it leaves
+    output wire                  sc_v,
+    output wire [CW-1:0]         sc_ch,
+    output wire [2:0]            sc_ph,
     // polls: a poll taken (its channel's due flag is spent), a poll's result;
     // one-clock strobes with their channel, never held back, straight from
     // the step's S2 (twh_polls registers what it keeps)
@@ -909,6 +913,9 @@ module twh_engine #(
     // channels was the HX8K's longest path (ins is the visit's at S2,
     // s3_ins the one a clock on: what i_n marks, by channel number)
     wire [CN-1:0] pend_p;
+    assign sc_v  = s3_v;
+    assign sc_ch = s3_ch;
+    assign sc_ph = s3_word[2:0];
     assign st_pend = pend_p[st_ch] || (ins && s2_ch == st_ch) || (s3_v && s3_ins && s3_ch == st_ch);
 
     // ------------------------------------------------------------ per channel

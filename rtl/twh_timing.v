@@ -38,16 +38,23 @@
 //   rd_data, from the block RAM's own register). One request is in the
 //   stage at a time, so a read never meets a write and sees every earlier
 //   one.
-// - Fetch: one channel per clock, in turn, reads the field its engine names
-//   on nx_fld (the length its next programmable phase will load), clamps
-//   it to the field's spec window unless `lab` is set (the window flags were
+// - Fetch: a channel's engine names the field it needs (the length its
+//   next programmable phase will load); the fetch reads it, clamps it to
+//   the field's spec window unless `lab` is set (the window flags were
 //   taken when the word was written, by the core's twh_window), and hands
-//   it to that engine (dur_we, dur, dur_fld) two clocks later, three above
-//   one channel (a registered read address). An engine loads a length only
-//   when dur_fld names the field it needs, so a length is never taken from
-//   a stale fetch; a channel's field is fetched again within CHANNELS + 3
-//   clocks of a change of its value or of nx_fld, and a round later for
-//   each read of the port in between (a bus read, the walker's).
+//   it to that engine (dur_we, dur, dur_fld) two clocks later. With one
+//   channel the naming is nx_fld, read every clock. Above one channel it
+//   is the time-shared engine's visit (sc_v, sc_ch, sc_ph: every visit's
+//   write-back names its channel and the phase it leaves, once a carrier
+//   period a channel, from the engine's flip-flops): no multiplexer over
+//   the channels and no register of the naming, where a round over every
+//   channel's nx_fld cost about five logic cells a channel. An engine
+//   loads a length only when dur_fld names the field it needs, so a
+//   length is never taken from a stale fetch. A channel's field is fetched
+//   again within a clock (one channel) or at its next visit (above) of a
+//   change of its value or of its naming; a read of the port in that clock
+//   (a bus read, the walker's) drops the fetch, which comes at the next
+//   clock or visit.
 `default_nettype none
 `include "twh_defs.vh"
 module twh_timing #(
@@ -56,9 +63,9 @@ module twh_timing #(
     // default, handed over straight from the field named, with no memory
     // and no pipeline
     parameter integer PROG     = 1,
-    // 1: nx_fld carries each channel's phase (the time-shared engine's),
-    // and the field its successor loads is decoded after the fetch's
-    // channel multiplexer (one decode rather than one a channel)
+    // 1: nx_fld and sc_ph carry a phase (the time-shared engine's), and
+    // the field its successor loads is decoded here (one decode rather
+    // than one a channel)
     parameter integer NX_PHASE = 0,
     // 1: each channel's fourth word is its POLL_CTRL (the core's POLLING),
     // and the reset sweep runs with fixed timing too (PROG = 0)
@@ -90,9 +97,14 @@ module twh_timing #(
     input  wire                  pc_rd,
     input  wire [4:0]            pc_ch,
     output wire [31:0]           pc_word,
-    // engines
+    // engines: above one channel a visit names its channel's field
+    // (NX_PHASE: its phase) now; with one channel nx_fld names it
+    input  wire                  sc_v,
+    input  wire [4:0]            sc_ch,
+    input  wire [2:0]            sc_ph,
     input  wire [CHANNELS*3-1:0] nx_fld,     // per channel: field 1-6 it needs next
-                                             // (NX_PHASE: its phase)
+                                             // (NX_PHASE: its phase; the fetch reads
+                                             // it with one channel, PROG = 0 with any)
     output reg  [CHANNELS-1:0]   dur_we,
     output reg                   dur_v,      // a length is handed over (|dur_we, kept
                                              // apart: the time-shared engine reads only
@@ -169,9 +181,12 @@ module twh_timing #(
     assign rd_data = (PROG != 0 || (POLL != 0 && rb_reg == 2'd3)) ? rb_word : def_word(rb_reg);
 
     // ------------------------------------------------------------ fetch
-    // stage 0: the channel in turn names its field and the word is read
-    // (unless the bus reads: that fetch is dropped); stage 1: the field's
-    // half and flags picked; then the clamp, into the engine's register
+    // stage 0: a channel names its field (one channel: nx_fld every clock;
+    // above: a visit) and the word is read (unless the bus or the walker
+    // reads: that fetch is dropped); stage 1: the field's half and flags
+    // picked; then the clamp, into the engine's register. (f_ch, a round
+    // over the channels, names them for the one-channel fetch and for the
+    // build without programmable timing, which hands over defaults.)
     localparam integer LAST_I = CHANNELS - 1;
     localparam [4:0]   LAST_CH = LAST_I[4:0];
     reg  [4:0] f_ch;
@@ -182,15 +197,15 @@ module twh_timing #(
     // verilator lint_off UNUSEDSIGNAL
     wire [1:0] f_reg = (f_fld <= 3'd2) ? 2'd0 : (f_fld <= 3'd4) ? 2'd1 : 2'd2;
     // verilator lint_on UNUSEDSIGNAL
-    // The read address: above one channel a register of the field named
-    // (the channel multiplexer and the field decode are then off the path
-    // into the memory: ECP5's LUT RAM reads asynchronously, and that path
-    // was its three-channel critical path); one channel has no multiplexer
-    // and hands its length over two clocks after naming it, which is what
-    // lets a lab-short phase of one tick at 4 MHz go without waiting.
-    // The read stage is written out in both branches: with the address as
-    // a wire chosen by CHANNELS the one-channel netlist came out a dozen
-    // LUTs larger (Yosys 0.70), where this keeps it the direct fetch's own.
+    // The read address: above one channel the visit's naming, which comes
+    // from the engine's flip-flops (no multiplexer stands in front of the
+    // memory: ECP5's LUT RAM reads asynchronously); one channel reads its
+    // naming every clock, which is what lets a lab-short phase of one tick
+    // at 4 MHz go without waiting. Either hands its length over two clocks
+    // after the naming. The read stage is written out in both branches:
+    // with the address as a wire chosen by CHANNELS the one-channel netlist
+    // came out a dozen LUTs larger (Yosys 0.70), where this keeps it the
+    // direct fetch's own.
     wire [35:0] e_word = m_rd;
     reg         e_ok;
     reg  [4:0]  e_ch;
@@ -201,17 +216,11 @@ module twh_timing #(
     end
     generate
         if (CHANNELS > 1) begin : g_stage
-            // the channel's phase (or field) is registered straight off the
-            // channel multiplexer and decoded after it: the multiplexer and
-            // the decode in one clock were HX8K's 32-channel critical path
-            reg [4:0] a_ch;
-            reg [2:0] a_nx;
-            reg       a_ok;
-            always @(posedge clk) begin
-                a_ch  <= f_ch;
-                a_nx  <= f_nx;
-                a_ok  <= !rst;
-            end
+            // the visit's channel and phase (or field), registers of the
+            // engine's write-back stage
+            wire [4:0] a_ch = sc_ch;
+            wire [2:0] a_nx = sc_ph;
+            wire       a_ok = sc_v;
             wire [2:0] a_fld = (NX_PHASE != 0) ? `TWH_FLD_OF(a_nx) : a_nx;
             wire [1:0] a_reg = (a_fld <= 3'd2) ? 2'd0 : (a_fld <= 3'd4) ? 2'd1 : 2'd2;
             always @(posedge clk)
@@ -224,6 +233,10 @@ module twh_timing #(
                 e_fld     <= a_fld;
             end
         end else begin : g_direct
+            // (one channel: the visits' naming is not needed)
+            // verilator lint_off UNUSEDSIGNAL
+            wire unused_sc = sc_v ^ (^sc_ch) ^ (^sc_ph);
+            // verilator lint_on UNUSEDSIGNAL
             always @(posedge clk)
                 m_rd <= mem[rd ? ra : p_rd ? pa : {f_ch[AW-3:0], f_reg}];
             always @(posedge clk) begin
@@ -360,6 +373,9 @@ module twh_timing #(
         // (a phase, NX_PHASE, is any of the eight)
         for (f_c = 0; f_c < CHANNELS; f_c = f_c + 1)
             if (NX_PHASE == 0) assume(nx_fld[f_c*3 +: 3] >= 3'd1 && nx_fld[f_c*3 +: 3] <= 3'd6);
+        // a visit names an existing channel (any clock, any order)
+        if (CHANNELS > 1 && sc_v)
+            assume(sc_ch < CHANNELS && (NX_PHASE != 0 || (sc_ph >= 3'd1 && sc_ph <= 3'd6)));
     end
 
     // the word followed, and what it must hold: f_w, written since the
@@ -431,24 +447,22 @@ module twh_timing #(
 
     // ---- every fetch hands its channel the field it named, clamped into
     // the field's window unless lab was set in the clock after the read
-    // (above one channel the read is a clock after the naming: f0_*), but
-    // the one a bus read displaced, which hands nothing over
+    // (one channel: nx_fld every clock; above: each visit's naming), but
+    // the one a bus read or the walker's displaced, which hands nothing over
     localparam [0:0] STAGE = (CHANNELS > 1);
-    reg        f0_ok = 1'b0, f1_ok = 1'b0, f2_ok = 1'b0;
+    reg        f1_ok = 1'b0, f2_ok = 1'b0;
     reg        f1_hit, f2_hit, f2_lab;
-    reg [4:0]  f0_ch, f1_ch, f2_ch;
-    reg [2:0]  f0_fld, f1_fld, f2_fld;
+    reg [4:0]  f1_ch, f2_ch;
+    reg [2:0]  f1_fld, f2_fld;
     // the value as of the read, and as a write in that clock leaves it
     // (a fetch that meets a write may take either)
     reg [31:0] f1_v, f2_v, f1_vn, f2_vn;
-    wire       r_ok  = STAGE ? f0_ok  : f_ok && !rst;   // a fetch reads now ...
-    wire [4:0] r_ch  = STAGE ? f0_ch  : f_ch;           // ... this channel's
-    wire [2:0] r_fld = STAGE ? f0_fld : f_fld;          // ... named field
+    wire [2:0] sc_fld = (NX_PHASE != 0) ? `TWH_FLD_OF(sc_ph) : sc_ph;
+    wire       r_ok  = f_ok && !rst && (!STAGE || sc_v);  // a fetch reads now ...
+    wire [4:0] r_ch  = STAGE ? sc_ch  : f_ch;             // ... this channel's
+    wire [2:0] r_fld = STAGE ? sc_fld : f_fld;            // ... named field
     wire [1:0] r_reg = (r_fld <= 3'd2) ? 2'd0 : (r_fld <= 3'd4) ? 2'd1 : 2'd2;
     always @(posedge clk) begin
-        f0_ok  <= f_ok && !rst;
-        f0_ch  <= f_ch;
-        f0_fld <= f_fld;
         f1_ok  <= r_ok && !rst && !rd && !pc_rd && !sw_we;
         f1_hit <= r_ch == f_ach && r_reg == f_areg;
         f1_ch  <= r_ch;
@@ -483,14 +497,6 @@ module twh_timing #(
         // dur_v is "a length is handed over": dur_we's OR
         if (f_ok) assert(dur_v == (dur_we != {CHANNELS{1'b0}}));
     end
-    // the registered read address is the naming of a clock before
-    generate
-        if (CHANNELS > 1) begin : g_f_stage
-            always @(*)
-                if (f0_ok) assert(g_stage.a_ch == f0_ch && g_stage.a_fld == f0_fld &&
-                                  g_stage.a_reg == r_reg && g_stage.a_ok);
-        end
-    endgenerate
     always @(posedge clk) begin
         if (f_ok && !rst)
             assert(f_ch == (($past(f_ch) == LAST_CH || $past(rst)) ? 5'd0 : $past(f_ch) + 5'd1));
