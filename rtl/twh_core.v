@@ -222,8 +222,9 @@ module twh_core #(
                q_r_res_pop, q_r_idle, q_r_busy;
     // TIMING0-2 of an existing channel read, from twh_timing's memory
     reg        q_r_t;
-    // POLL_CTRL / POLL_RESULT / STATE of an existing channel read, from
-    // twh_polls' memories and the engine's copies (twh_core_engine)
+    // POLL_CTRL (from twh_timing's memory too, with POLLING) / POLL_RESULT
+    // / STATE of an existing channel read (the last two from twh_polls'
+    // memory and the engine's copies: twh_core_engine)
     reg        q_r_pc, q_r_pr, q_r_st;
     reg        q_cmp_nz;         // ... not all zero: a field lies outside its window
     reg        q_win_p;          // i_win_p of the request
@@ -441,7 +442,7 @@ module twh_core #(
     wire        e_res_valid;
     wire [37:0] e_res;
     wire        e_cancelling;     // a flush's cancels are left in the queues
-    wire [31:0] p_rdata;          // the answer of a POLL_CTRL / POLL_RESULT / STATE read
+    wire [31:0] p_rdata;          // the answer of a POLL_RESULT / STATE read
     wire res_push = e_res_valid && !res_full;
     wire [3:0] push_status = e_res[27:24];
     wire pop_req = q_pop;
@@ -848,9 +849,9 @@ module twh_core #(
                     3'd0,
                     3'd1,
                     3'd2:    f_rdata = 32'd0;
-                    // POLL_CTRL, POLL_RESULT, STATE: twh_core_engine's
-                    // word (twh_polls' and the engine's), ORed in a clock
-                    // later (below); CMD_PUSH: write-only
+                    // POLL_CTRL, POLL_RESULT, STATE: twh_timing's word
+                    // or twh_core_engine's (twh_polls' and the engine's),
+                    // ORed in a clock later (below); CMD_PUSH: write-only
                     default: f_rdata = 32'd0;
                 endcase
             end else begin
