@@ -21,8 +21,10 @@
 //   no term of its own in the register read's AND-OR (a LUT a bit).
 // - Reset: a sweep writes every word's default, one word a clock (`SW`
 //   clocks: four words a channel, rounded up to a power of two), then waits
-//   as long again so that the fetch has handed every channel its lengths
-//   from the swept words; `ready` is low until then, and the core's
+//   as long again (with one channel the fetch has handed over its lengths
+//   from the swept words by then; above one, the visits fetch them during
+//   the 2001 periods of idle a channel starts with after a reset, before it
+//   can start a transaction); `ready` is low until then, and the core's
 //   register port takes no request while it is (so no bus write is swept
 //   over), and the pollers' walker does not start until its writes are
 //   over (`sw_we`). A memory written back to its defaults
