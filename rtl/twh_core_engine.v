@@ -58,7 +58,10 @@ module twh_core_engine #(
     output wire [4:0]             pc_ch,
     input  wire [31:0]            pc_word,
     // phase lengths from twh_timing
-    output wire [CHANNELS*3-1:0]  nx_ph,        // each channel's phase (twh_timing's NX_PHASE)
+    output wire [CHANNELS*3-1:0]  nx_ph,        // each channel's phase (twh_timing's NX_PHASE;
+                                                // its fetch reads it with one channel)
+    // each visit's write-back: its channel and the phase it leaves (the
+    // fetch's naming above one channel)
     output wire                   sc_v,
     output wire [4:0]             sc_ch,
     output wire [2:0]             sc_ph,
