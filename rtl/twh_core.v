@@ -496,7 +496,7 @@ module twh_core #(
     // (its reset sweep writes POLL_CTRL's reset value too; the register
     // port waits for it, t_ready)
     twh_timing #(.CHANNELS(CH_N), .PROG(PROG_TIMING), .NX_PHASE(1),
-                 .POLL(POLLING != 0 ? 1 : 0)) u_timing (
+                 .POLL(POLLING != 0 ? 1 : 0), .RAM_BLOCK(RAM_BLOCK)) u_timing (
         .clk(clk), .rst(rst), .ready(t_ready), .sw_we(t_sw_we),
         .sw_reg(t_sw_reg), .lab(lab),
         .wr(t_wr || p_wr), .wr_ch(q_blk), .wr_reg(q_treg),

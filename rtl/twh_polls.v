@@ -69,8 +69,9 @@ module twh_polls #(
     input  wire                rd_res,       // POLL_RESULT of rd_ch
     input  wire [CW-1:0]       rd_ch,
     output wire [31:0]         rd_data,      // a clock later; 0 after no read
-    // POLL_CTRL in twh_timing's memory: the walker reads pc_ch's now, its
-    // word comes a clock later
+    // POLL_CTRL in twh_timing's memory: the walker asks to read pc_ch's
+    // now and reads it unless port_rd (the bus goes first), its word a
+    // clock later
     output wire                pc_rd,
     output wire [CW-1:0]       pc_ch,
     input  wire [31:0]         pc_word,
@@ -95,7 +96,10 @@ module twh_polls #(
     reg [1:0]    w_s;           // 0 read, 1 step (from the words read), 2 commit
     reg [CW-1:0] w_ch;
     wire         w_read = w_on && w_s == 2'd0 && !port_rd;   // the walker reads this clock
-    assign pc_rd = w_read;
+    // (it asks for the port whatever the bus does, which goes first: its
+    // request is flip-flops' alone, off the bus's path into the memory's
+    // address)
+    assign pc_rd = w_on && w_s == 2'd0;
     assign pc_ch = w_ch;
     // the engine's copy of the command (below) is a memory of this module,
     // as twh_ram's, so that its proof can name its words (g_mem.cm_mem:
@@ -321,14 +325,14 @@ module twh_polls #(
     always @(posedge clk) begin
         if (rst)                    f_pc <= F_PC_DEF;
         else if (wr && wr_ch == f_n) f_pc <= wr_data;
-        f_pr <= pc_rd && pc_ch == f_n;
+        f_pr <= pc_rd && !port_rd && pc_ch == f_n;
         f_pa <= f_pc;
         f_pb <= (wr && wr_ch == f_n) ? wr_data : f_pc;
     end
     always @(*) if (f_ok && f_pr) assume(pc_word == f_pa || pc_word == f_pb);
-    // (twh_timing's proof assumes it: the walker's read never meets a bus
-    // read, which takes the port, and only an existing channel's)
-    always @(*) if (f_ok && pc_rd) assert(!port_rd && pc_ch < CHANNELS);
+    // (twh_timing's proof assumes it: the walker asks only for an
+    // existing channel's, and only once the sweep's writes are over)
+    always @(*) if (f_ok && pc_rd) assert(pc_ch < CHANNELS && !f_swo);
     reg [CW-1:0] f_sc;            // the channel the engine's read named a clock ago
     reg          f_sd;            // ... and that channel's request then
     reg          f_past = 1'b0;

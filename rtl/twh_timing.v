@@ -71,7 +71,12 @@ module twh_timing #(
     parameter integer NX_PHASE = 0,
     // 1: each channel's fourth word is its POLL_CTRL (the core's POLLING),
     // and the reset sweep runs with fixed timing too (PROG = 0)
-    parameter integer POLL     = 0
+    parameter integer POLL     = 0,
+    // 1: the memory in block RAM (the iCE40s: they have no LUT RAM); 0:
+    // LUT RAM at every depth (the ECP5: its read is faster than a DP16KD
+    // block RAM's 5.8 ns from clock to output, which at 16 and 32
+    // channels stood in front of the pollers' step; the core's RAM_BLOCK)
+    parameter integer RAM_BLOCK = 1
 ) (
     input  wire                  clk,
     input  wire                  rst,
@@ -94,8 +99,10 @@ module twh_timing #(
     input  wire [4:0]            rd_ch,
     input  wire [1:0]            rd_reg,
     output wire [31:0]           rd_data,    // one clock after rd
-    // the pollers' walker (POLL): POLL_CTRL of pc_ch read now (never with
-    // rd or the sweep's write), its word on pc_word a clock later
+    // the pollers' walker (POLL): it asks to read POLL_CTRL of pc_ch now
+    // (never while the sweep writes) and reads it unless the bus reads in
+    // that clock (rd has the port first: the walker asks again), its word
+    // on pc_word a clock later
     input  wire                  pc_rd,
     input  wire [4:0]            pc_ch,
     output wire [31:0]           pc_word,
@@ -141,7 +148,10 @@ module twh_timing #(
     wire unused_ch = ^wr_ch ^ ^rd_ch ^ ^pc_ch;
     // verilator lint_on UNUSEDSIGNAL
     // {window flags, value}: the flags twh_window took of the value
-    (* no_rw_check *) reg [35:0] mem [0:NW-1];
+    // verilator lint_off UNUSEDPARAM
+    localparam STYLE = (RAM_BLOCK != 0) ? "block" : "distributed";
+    // verilator lint_on UNUSEDPARAM
+    (* no_rw_check *) (* ram_style = STYLE *) reg [35:0] mem [0:NW-1];
     wire [AW-1:0] wa = {wr_ch[AW-3:0], wr_reg};
     wire [AW-1:0] ra = {rd_ch[AW-3:0], rd_reg};
     reg  [35:0] m_rd;                     // the port's word: the bus's after rd, else the fetch's
@@ -171,7 +181,9 @@ module twh_timing #(
         if (wr || sw_we) mem[sw_we ? sw_a : wa] <= {wr_cmp, wr_data};
     wire [31:0] rb_word = m_rd[31:0];
     assign pc_word = m_rd[31:0];
-    // (the walker's read takes the port after a bus read's: its address)
+    // (the walker's read takes the port after a bus read's: its address;
+    // its request is its own flip-flops', so no bus compare stands in
+    // front of the memory's address: ECP5's LUT RAM reads asynchronously)
     wire          p_rd = pc_rd && POLL != 0;
     wire [AW-1:0] pa   = {pc_ch[AW-3:0], 2'b11};
     // (words past TIMING2 and past the last channel are swept too, and
@@ -364,9 +376,9 @@ module twh_timing #(
         // a bus read names an existing channel's TIMING0-2 (or POLL_CTRL,
         // POLL), and a request is a read or a write
         if (rd) assume(!wr && (rd_reg <= 2'd2 || POLL != 0) && rd_ch < CHANNELS);
-        // the walker reads only with POLL, an existing channel, while the
-        // bus does not read and the sweep does not write
-        if (pc_rd) assume(POLL != 0 && !rd && !sw_we && pc_ch < CHANNELS);
+        // the walker asks only with POLL, for an existing channel, while
+        // the sweep does not write (a bus read in that clock goes first)
+        if (pc_rd) assume(POLL != 0 && !sw_we && pc_ch < CHANNELS);
         // the core's register port takes no request during the sweep,
         // and its data register holds the default of the word swept (no
         // window flags: the defaults lie in their windows)
@@ -441,7 +453,7 @@ module twh_timing #(
     reg        f_pr = 1'b0;
     reg [31:0] f_pr_want, f_pr_wn;
     always @(posedge clk) begin
-        f_pr      <= f_ok && !rst && pc_rd && pc_ch == f_ach && f_areg == 2'd3;
+        f_pr      <= f_ok && !rst && pc_rd && !rd && pc_ch == f_ach && f_areg == 2'd3;
         f_pr_want <= f_now;
         f_pr_wn   <= f_wr_a ? wr_data : f_now;
     end
