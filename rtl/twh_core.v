@@ -490,6 +490,7 @@ module twh_core #(
     // the same port
     wire        p_wr  = q_wp && wr && q_win_p && POLLING != 0;
     wire        p_rd  = q_r_pc && POLLING != 0;
+    wire        t_prd = q_r_t || p_rd;           // the bus reads twh_timing's memory
     wire        pc_rd;
     wire [4:0]  pc_ch;
     wire [31:0] pc_word;
@@ -501,7 +502,7 @@ module twh_core #(
         .sw_reg(t_sw_reg), .lab(lab),
         .wr(t_wr || p_wr), .wr_ch(q_blk), .wr_reg(q_treg),
         .wr_data(q_wdata), .wr_cmp(q_cmp),
-        .rd(q_r_t || p_rd), .rd_ch(q_blk), .rd_reg(q_treg), .rd_data(t_rdata),
+        .rd(t_prd), .rd_ch(q_blk), .rd_reg(q_treg), .rd_data(t_rdata),
         .pc_rd(pc_rd), .pc_ch(pc_ch), .pc_word(pc_word),
         .sc_v(c_sc_v), .sc_ch(c_sc_ch), .sc_ph(c_sc_ph),
         .nx_fld(c_nx_fld), .dur_we(t_dur_we), .dur_v(t_dur_v), .dur_ch(t_dur_ch), .dur(t_dur),
@@ -512,7 +513,7 @@ module twh_core #(
                       .PROG_TIMING(PROG_TIMING), .RAM_BLOCK(RAM_BLOCK)) u_engine (
         .clk(clk), .rst(rst), .ms_tick(ms_tick), .sw_we(t_sw_we),
         .tick(us_tick), .fall(us_fall), .enable(enable), .idle_charge(idle_charge[CH_N-1:0]),
-        .wdata(q_wdata), .pc_wr(q_wp && wr && q_win_p), .port_rd(q_r_t || p_rd),
+        .wdata(q_wdata), .pc_wr(p_wr), .port_rd(t_prd),
         .rd_res(q_r_pr), .rd_state(q_r_st), .reg_ch(q_blk), .rd_data(p_rdata),
         .pc_rd(pc_rd), .pc_ch(pc_ch), .pc_word(pc_word),
         .nx_ph(c_nx_fld), .sc_v(c_sc_v), .sc_ch(c_sc_ch), .sc_ph(c_sc_ph), .dur_v(t_dur_v), .dur_ch(t_dur_ch), .dur(t_dur),
@@ -695,7 +696,7 @@ module twh_core #(
             // between answers the read selects are 0, and so are these
             if (q_req || reg_ack) begin
                 rdata_q   <= g_rdata;
-                t_rd_q  <= q_r_t || p_rd;
+                t_rd_q  <= t_prd;
             end
         end
     end
