@@ -55,6 +55,7 @@ module twh_core_engine #(
     output wire                   sc_v,
     output wire [4:0]             sc_ch,
     output wire [2:0]             sc_ph,
+    output wire [1:0]             sc_tr,
     input  wire                   dur_v,
     input  wire [4:0]             dur_ch,
     input  wire [15:0]            dur,
@@ -180,6 +181,7 @@ module twh_core_engine #(
     assign sc_v        = 1'b0;
     assign sc_ch       = 5'd0;
     assign sc_ph       = 3'd0;
+    assign sc_tr       = 2'd0;
     assign pc_ch       = 5'd0;
     assign rd_data     = rd_q ? f_rd : 32'd0;
     assign nx_ph       = f_nx;

@@ -220,12 +220,14 @@ module twh_core #(
     reg        q_r_id, q_r_version, q_r_params, q_r_ctrl, q_r_status, q_r_levels,
                q_r_errors, q_r_irq_en, q_r_irq_status, q_r_poll_ready, q_r_res_info,
                q_r_res_pop, q_r_idle, q_r_busy;
-    // TIMING0-2 of an existing channel read, from twh_timing's memory
-    reg        q_r_t;
-    // POLL_CTRL (from twh_timing's memory too, with POLLING) / POLL_RESULT
-    // / STATE of an existing channel read (the last two from twh_polls'
-    // memory and the engine's copies: twh_core_engine)
-    reg        q_r_pc, q_r_pr, q_r_st;
+    // TIMING0-2, or POLL_CTRL with POLLING, of an existing channel read:
+    // twh_timing's memory. One flip-flop, as it selects that memory's read
+    // address (ECP5's LUT RAM reads it in the same clock: an OR of two
+    // selects stood there)
+    reg        q_r_tm;
+    // POLL_RESULT / STATE of an existing channel read (twh_polls' memory
+    // and the engine's copies: twh_core_engine)
+    reg        q_r_pr, q_r_st;
     reg        q_cmp_nz;         // ... not all zero: a field lies outside its window
     reg        q_win_p;          // i_win_p of the request
     // The REFUSED verdict's parts, taken on the way in so that the error
@@ -274,7 +276,7 @@ module twh_core #(
     always @(posedge clk) if (i_load) begin
         if (rst || !reg_req) begin
             q_req <= 1'b0; q_wr <= 1'b0; q_rd <= 1'b0;
-            q_wr_t <= 1'b0; q_r_t <= 1'b0; q_ref_p <= 1'b0; q_r_pc <= 1'b0; q_r_pr <= 1'b0; q_r_st <= 1'b0;
+            q_wr_t <= 1'b0; q_r_tm <= 1'b0; q_ref_p <= 1'b0; q_r_pr <= 1'b0; q_r_st <= 1'b0;
             q_r_id <= 1'b0; q_r_version <= 1'b0; q_r_params <= 1'b0; q_r_ctrl <= 1'b0;
             q_r_status <= 1'b0; q_r_levels <= 1'b0; q_r_errors <= 1'b0; q_r_irq_en <= 1'b0;
             q_r_irq_status <= 1'b0; q_r_poll_ready <= 1'b0; q_r_res_info <= 1'b0;
@@ -287,8 +289,8 @@ module twh_core #(
             q_wr       <= i_wr;
             q_rd       <= i_rd;
             q_wr_t     <= i_wr && i_ch_ok && reg_addr[4:2] <= 3'd2;
-            q_r_t      <= i_rd && i_ch_ok && reg_addr[4:2] <= 3'd2;
-            q_r_pc     <= i_rd && i_ch_ok && reg_addr[4:2] == 3'd3;
+            q_r_tm     <= i_rd && i_ch_ok && (reg_addr[4:2] <= 3'd2 ||
+                                          (POLLING != 0 && reg_addr[4:2] == 3'd3));
             q_r_pr     <= i_rd && i_ch_ok && reg_addr[4:2] == 3'd4;
             q_r_st     <= i_rd && i_ch_ok && reg_addr[4:2] == 3'd5;
             q_ref_p    <= i_wr && i_ch_ok && reg_addr[4:2] == 3'd3 && !i_win_p;
@@ -463,6 +465,7 @@ module twh_core #(
     wire                  c_sc_v;
     wire [4:0]            c_sc_ch;
     wire [2:0]            c_sc_ph;
+    wire [1:0]            c_sc_tr;
 
     // A channel register write starts from the request stage: its value's
     // window flags were taken on the way in, for the register addressed (the
@@ -489,8 +492,7 @@ module twh_core #(
     // go there, as register 3, and the pollers' walker reads it through
     // the same port
     wire        p_wr  = q_wp && wr && q_win_p && POLLING != 0;
-    wire        p_rd  = q_r_pc && POLLING != 0;
-    wire        t_prd = q_r_t || p_rd;           // the bus reads twh_timing's memory
+    wire        t_prd = q_r_tm;                  // the bus reads twh_timing's memory
     wire        pc_rd;
     wire [4:0]  pc_ch;
     wire [31:0] pc_word;
@@ -504,7 +506,7 @@ module twh_core #(
         .wr_data(q_wdata), .wr_cmp(q_cmp),
         .rd(t_prd), .rd_ch(q_blk), .rd_reg(q_treg), .rd_data(t_rdata),
         .pc_rd(pc_rd), .pc_ch(pc_ch), .pc_word(pc_word),
-        .sc_v(c_sc_v), .sc_ch(c_sc_ch), .sc_ph(c_sc_ph),
+        .sc_v(c_sc_v), .sc_ch(c_sc_ch), .sc_ph(c_sc_ph), .sc_tr(c_sc_tr),
         .nx_fld(c_nx_fld), .dur_we(t_dur_we), .dur_v(t_dur_v), .dur_ch(t_dur_ch), .dur(t_dur),
         .dur_fld(t_dur_fld)
     );
@@ -516,7 +518,7 @@ module twh_core #(
         .wdata(q_wdata), .pc_wr(p_wr), .port_rd(t_prd),
         .rd_res(q_r_pr), .rd_state(q_r_st), .reg_ch(q_blk), .rd_data(p_rdata),
         .pc_rd(pc_rd), .pc_ch(pc_ch), .pc_word(pc_word),
-        .nx_ph(c_nx_fld), .sc_v(c_sc_v), .sc_ch(c_sc_ch), .sc_ph(c_sc_ph), .dur_v(t_dur_v), .dur_ch(t_dur_ch), .dur(t_dur),
+        .nx_ph(c_nx_fld), .sc_v(c_sc_v), .sc_ch(c_sc_ch), .sc_ph(c_sc_ph), .sc_tr(c_sc_tr), .dur_v(t_dur_v), .dur_ch(t_dur_ch), .dur(t_dur),
         .dur_fld(t_dur_fld), .poll_sample(c_sample), .poll_error(c_poll_err),
         .cmd_valid(dispatch), .cmd_ch(disp_ch), .cmd_code(h_cmd),
         .cmd_payload(h_payload), .cmd_tag(h_tag), .cmd_skip(h_skip),
@@ -763,7 +765,7 @@ module twh_core #(
     // request in the stage every strobe and select is 0, and with no
     // answer the read word is 0.
     always @(*) if (f_rs && !q_req) begin
-        assert({q_wr, q_rd, q_wr_t, q_r_t, q_ref_p, q_r_pc, q_r_pr, q_r_st} == 0);
+        assert({q_wr, q_rd, q_wr_t, q_r_tm, q_ref_p, q_r_pr, q_r_st} == 0);
         assert({q_r_id, q_r_version, q_r_params, q_r_ctrl, q_r_status, q_r_levels,
                 q_r_errors, q_r_irq_en, q_r_irq_status, q_r_poll_ready, q_r_res_info,
                 q_r_res_pop, q_r_idle, q_r_busy} == 0);
@@ -900,10 +902,11 @@ module twh_core #(
                                                    ({32{f_prd_q}} & p_rdata)));
     // twh_polls is handed the request's channel and register
     always @(*) if (f_rs && f_h)
-        assert(q_r_pc == (rd && ch_exists && ch_reg == 3'd3) &&
+        assert(q_r_tm == (rd && ch_exists && (ch_reg <= 3'd2 ||
+                                              (POLLING != 0 && ch_reg == 3'd3))) &&
                q_r_pr == (rd && ch_exists && ch_reg == 3'd4) &&
                q_r_st == (rd && ch_exists && ch_reg == 3'd5) &&
-               (!(q_r_pc || q_r_pr || q_r_st) || q_blk == ch_sel));
+               (!(q_r_tm || q_r_pr || q_r_st) || q_blk == ch_sel));
     // twh_timing is handed the word the request names, for a read or a write
     always @(*) if (f_rs && f_h && ch_exists && ch_reg <= 3'd3)
         assert(q_blk == ch_sel && q_treg == ch_reg[1:0]);

@@ -15,7 +15,8 @@
 //   phase lasts at least 900 us (outside the lab unlock), and its
 //   successor's field is fetched at the visit that starts it and at every
 //   visit after (one channel: every clock; the engine's write-back names
-//   the channel and its phase: sc_v, sc_ch, sc_ph),
+//   the channel and its phase: sc_v, sc_ch, sc_ph, and the register of
+//   the field named: sc_tr),
 //   long before its last period reads it.
 // - STATE: PHASE the engine's phase, BUSY a transaction under way (phases
 //   charge to turnaround), SLOT_FULL a queued command not started; read
@@ -65,6 +66,7 @@ module twh_core_engine #(
     output wire                   sc_v,
     output wire [4:0]             sc_ch,
     output wire [2:0]             sc_ph,
+    output wire [1:0]             sc_tr,
     input  wire                   dur_v,
     input  wire [4:0]             dur_ch,
     input  wire [15:0]            dur,
@@ -135,7 +137,7 @@ module twh_core_engine #(
         .line_o(line_o), .line_oe(line_oe), .line_i(line_i),
         .busy(e_busy), .pending(e_pending), .st_ch(reg_ch[CW-1:0]), .st_pend(st_pend),
         .cancelling(cancelling),
-        .phase(e_phase), .fld(e_fld), .sc_v(sc_v), .sc_ch(sc_cw), .sc_ph(sc_ph),
+        .phase(e_phase), .fld(e_fld), .sc_v(sc_v), .sc_ch(sc_cw), .sc_ph(sc_ph), .sc_tr(sc_tr),
         .p_take(p_take), .p_res(p_res), .p_ch(p_ch), .p_data(p_data), .p_status(p_status),
         .p_count(p_count)
     );

@@ -81,6 +81,12 @@
      ((p) == `TWH_PH_PREAMBLE || (p) == `TWH_PH_COMMAND) ? 3'd4 : \
      ((p) == `TWH_PH_EXECUTE) ? 3'd5 : ((p) == `TWH_PH_LISTEN) ? 3'd6 : 3'd1)
 
+// The timing register (0-2: TIMING0-2) that holds field `f` (1-6, two a
+// register, the low half first): twh_timing's word address, which the
+// time-shared engine registers at its write-back (sc_tr) so that the
+// fetch's address is flip-flops alone
+`define TWH_TREG_OF(f) (((f) <= 3'd2) ? 2'd0 : ((f) <= 3'd4) ? 2'd1 : 2'd2)
+
 // The receiver's fields in its 45-bit word (twh_rx_dec, twh_rx_step; the
 // engine keeps it in its state word's union during listen): bit offsets
 `define TWH_RX_SH  0      // 24: the data bits received, the first in [0]

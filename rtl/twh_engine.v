@@ -146,6 +146,7 @@ module twh_engine #(
     output wire                  sc_v,
     output wire [CW-1:0]         sc_ch,
     output wire [2:0]            sc_ph,
+    output wire [1:0]            sc_tr,        // the TIMING register its successor's field is in
     // polls: a poll taken (its channel's due flag is spent), a poll's result;
     // one-clock strobes with their channel, never held back, straight from
     // the step's S2 (twh_polls registers what it keeps)
@@ -916,6 +917,16 @@ module twh_engine #(
     assign sc_v  = s3_v;
     assign sc_ch = s3_ch;
     assign sc_ph = s3_word[2:0];
+    // (decoded on the way into S3, so that twh_timing's read address is
+    // flip-flops alone: ECP5's LUT RAM reads it in the clock, and the
+    // decode stood in front of it. Not from the new word's phase, whose
+    // idle start would put the step's decision in front of it: the phase
+    // leaves for its successor at its last period, turnaround's for idle,
+    // and idle's start for charge, whose successor's field is in TIMING0
+    // as idle's is; the proof checks it against sc_ph)
+    reg [1:0] s3_tr;
+    always @(posedge clk) s3_tr <= `TWH_TREG_OF(fld_of(last ? ph + 3'd1 : ph));
+    assign sc_tr = s3_tr;
     assign st_pend = pend_p[st_ch] || (ins && s2_ch == st_ch) || (s3_v && s3_ins && s3_ch == st_ch);
 
     // ------------------------------------------------------------ per channel
@@ -994,6 +1005,9 @@ module twh_engine #(
         s4_v  <= !rst && s3_v;
         s4_ch <= s3_ch;
     end
+    // a visit's write-back names the TIMING register of the field its
+    // phase's successor loads (twh_timing takes it as given)
+    always @(*) if (f_ok && s3_v) assert(sc_tr == `TWH_TREG_OF(`TWH_FLD_OF(sc_ph)));
     // the scan chain marks the stages' channels
     integer f_n;
     always @(*) begin

@@ -94,12 +94,13 @@ module twh_polls #(
     // ------------------------------------------------------------ POLL_CTRL
     reg          w_on, w_pend, w_dirty;
     reg [1:0]    w_s;           // 0 read, 1 step (from the words read), 2 commit
+    reg          w_r;           // w_on && w_s == 0: the walker asks for the port
     reg [CW-1:0] w_ch;
-    wire         w_read = w_on && w_s == 2'd0 && !port_rd;   // the walker reads this clock
+    wire         w_read = w_r && !port_rd;   // the walker reads this clock
     // (it asks for the port whatever the bus does, which goes first: its
-    // request is flip-flops' alone, off the bus's path into the memory's
-    // address)
-    assign pc_rd = w_on && w_s == 2'd0;
+    // request is a flip-flop of its own, so that twh_timing's read address
+    // is one LUT of flip-flops: ECP5's LUT RAM reads it in the clock)
+    assign pc_rd = w_r;
     assign pc_ch = w_ch;
     // the engine's copy of the command (below) is a memory of this module,
     // as twh_ram's, so that its proof can name its words (g_mem.cm_mem:
@@ -162,12 +163,14 @@ module twh_polls #(
     always @(posedge clk) begin
         if (rst || POLLING == 0) begin
             w_on <= 1'b0; w_s <= 2'd0; w_pend <= 1'b0; w_dirty <= 1'b0;
+            w_r  <= 1'b0;
             w_ch <= {CW{1'b0}};
         end else begin
             if (ms_tick) w_pend <= 1'b1;
             if (!w_on) begin
                 if ((w_pend || ms_tick) && !sw_we) begin
                     w_on   <= 1'b1;
+                    w_r    <= 1'b1;
                     w_pend <= 1'b0;
                     w_s    <= 2'd0;
                     w_ch   <= {CW{1'b0}};
@@ -175,6 +178,7 @@ module twh_polls #(
             end else if (w_s == 2'd0) begin
                 if (w_read) begin
                     w_s     <= 2'd1;
+                    w_r     <= 1'b0;
                     w_dirty <= wr && wr_ch == w_ch;
                 end
             end else if (w_s == 2'd1) begin
@@ -184,6 +188,7 @@ module twh_polls #(
                 if (wr && wr_ch == w_ch) w_dirty <= 1'b1;
             end else begin
                 w_s <= 2'd0;
+                w_r <= !(commit && w_ch == LAST);
                 if (commit) begin
                     if (CHANNELS > 1) w_ch <= w_ch + 1'b1;   // (one: stays 0)
                     if (w_ch == LAST) w_on <= 1'b0;
@@ -375,6 +380,7 @@ module twh_polls #(
             // (set_due follows a commit by a clock, the walker then reading)
             if (set_due) assert(!w_on || w_s == 2'd0);
             if (w_on) assert(w_s != 2'd3);
+            assert(w_r == (w_on && w_s == 2'd0));
             if (w_on) assert(w_ch < CHANNELS);
             // a due poll's command, and one about to fall due, is read-only
             if (due[f_n]) assert(f_ro(g_mem.cm_mem[f_n][7:0]));

@@ -46,9 +46,10 @@
 //   taken when the word was written, by the core's twh_window), and hands
 //   it to that engine (dur_we, dur, dur_fld) two clocks later. With one
 //   channel the naming is nx_fld, read every clock. Above one channel it
-//   is the time-shared engine's visit (sc_v, sc_ch, sc_ph: every visit's
-//   write-back names its channel and the phase it leaves, once a carrier
-//   period a channel, from the engine's flip-flops): no multiplexer over
+//   is the time-shared engine's visit (sc_v, sc_ch, sc_ph, and sc_tr, the
+//   TIMING register of the field named: every visit's write-back names
+//   its channel and the phase it leaves, once a carrier period a channel,
+//   from the engine's flip-flops): no multiplexer over
 //   the channels and no register of the naming, where a round over every
 //   channel's nx_fld cost about five logic cells a channel. An engine
 //   loads a length only when dur_fld names the field it needs, so a
@@ -111,6 +112,7 @@ module twh_timing #(
     input  wire                  sc_v,
     input  wire [4:0]            sc_ch,
     input  wire [2:0]            sc_ph,
+    input  wire [1:0]            sc_tr,      // the register of sc_ph's successor's field
     input  wire [CHANNELS*3-1:0] nx_fld,     // per channel: field 1-6 it needs next
                                              // (NX_PHASE: its phase; the fetch reads
                                              // it with one channel, PROG = 0 with any)
@@ -209,11 +211,17 @@ module twh_timing #(
     // fields 1-2 are TIMING0's, 3-4 TIMING1's, 5-6 TIMING2's (the memory's
     // read of a programmable build; with PROG = 0 only the proof reads it)
     // verilator lint_off UNUSEDSIGNAL
-    wire [1:0] f_reg = (f_fld <= 3'd2) ? 2'd0 : (f_fld <= 3'd4) ? 2'd1 : 2'd2;
+    wire [1:0] f_reg = `TWH_TREG_OF(f_fld);
     // verilator lint_on UNUSEDSIGNAL
     // The read address: above one channel the visit's naming, which comes
-    // from the engine's flip-flops (no multiplexer stands in front of the
-    // memory: ECP5's LUT RAM reads asynchronously); one channel reads its
+    // from the engine's flip-flops. In LUT RAM (RAM_BLOCK = 0), which reads
+    // in the clock, the word's register comes decoded from there too
+    // (sc_tr), as the bus's and the walker's selects are flip-flops of
+    // their own (rd, pc_rd): the address is one LUT of flip-flops (the
+    // decode in front of it was the ECP5-25F's longest path at three and 32
+    // channels). A block RAM registers its address itself, so there the
+    // register is decoded from sc_ph here (the engine's two flip-flops of
+    // it placed about twenty cells more on the HX8K). One channel reads its
     // naming every clock, which is what lets a lab-short phase of one tick
     // at 4 MHz go without waiting. Either hands its length over two clocks
     // after the naming. The read stage is written out in both branches:
@@ -236,7 +244,7 @@ module twh_timing #(
             wire [2:0] a_nx = sc_ph;
             wire       a_ok = sc_v;
             wire [2:0] a_fld = (NX_PHASE != 0) ? `TWH_FLD_OF(a_nx) : a_nx;
-            wire [1:0] a_reg = (a_fld <= 3'd2) ? 2'd0 : (a_fld <= 3'd4) ? 2'd1 : 2'd2;
+            wire [1:0] a_reg = (RAM_BLOCK == 0) ? sc_tr : `TWH_TREG_OF(a_fld);
             always @(posedge clk)
                 m_rd <= mem[rd ? ra : p_rd ? pa : {a_ch[AW-3:0], a_reg}];
             // (a word read while the sweep writes may not be swept yet:
@@ -249,7 +257,7 @@ module twh_timing #(
         end else begin : g_direct
             // (one channel: the visits' naming is not needed)
             // verilator lint_off UNUSEDSIGNAL
-            wire unused_sc = sc_v ^ (^sc_ch) ^ (^sc_ph);
+            wire unused_sc = sc_v ^ (^sc_ch) ^ (^sc_ph) ^ (^sc_tr);
             // verilator lint_on UNUSEDSIGNAL
             always @(posedge clk)
                 m_rd <= mem[rd ? ra : p_rd ? pa : {f_ch[AW-3:0], f_reg}];
@@ -388,8 +396,11 @@ module twh_timing #(
         for (f_c = 0; f_c < CHANNELS; f_c = f_c + 1)
             if (NX_PHASE == 0) assume(nx_fld[f_c*3 +: 3] >= 3'd1 && nx_fld[f_c*3 +: 3] <= 3'd6);
         // a visit names an existing channel (any clock, any order)
+        // (and the register of the field it names: the engine's proof
+        // shows it for its write-back)
         if (CHANNELS > 1 && sc_v)
-            assume(sc_ch < CHANNELS && (NX_PHASE != 0 || (sc_ph >= 3'd1 && sc_ph <= 3'd6)));
+            assume(sc_ch < CHANNELS && (NX_PHASE != 0 || (sc_ph >= 3'd1 && sc_ph <= 3'd6)) &&
+                   sc_tr == `TWH_TREG_OF((NX_PHASE != 0) ? `TWH_FLD_OF(sc_ph) : sc_ph));
     end
 
     // the word followed, and what it must hold: f_w, written since the

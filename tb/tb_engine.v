@@ -69,7 +69,7 @@ module tb_engine #(
         .m_res_code(m_res_code), .m_res_data(m_res_data), .m_res_status(m_res_status),
         .m_res_tag(m_res_tag),
         .line_o(line_o), .line_oe(line_oe), .line_i(line), .busy(busy), .phase(phase),
-        .pending(), .st_ch({CW{1'b0}}), .st_pend(), .cancelling(), .fld(), .sc_v(), .sc_ch(), .sc_ph(), .p_take(), .p_res(), .p_ch(), .p_data(), .p_status(), .p_count()
+        .pending(), .st_ch({CW{1'b0}}), .st_pend(), .cancelling(), .fld(), .sc_v(), .sc_ch(), .sc_ph(), .sc_tr(), .p_take(), .p_res(), .p_ch(), .p_data(), .p_status(), .p_count()
     );
     genvar n;
     generate

@@ -39,6 +39,7 @@ module tb_engine1 #(
     wire        scan_unused, res_ch_unused, p_take_unused, p_res_unused, p_ch_unused;
     wire        pending_unused, st_pend_unused, cancelling_unused, sc_v_unused, sc_ch_unused;
     wire [2:0]  sc_ph_unused;
+    wire [1:0]  sc_tr_unused;
     wire [15:0] p_data_unused;
     wire [3:0]  p_status_unused;
     wire [11:0] p_count_unused;
@@ -56,7 +57,7 @@ module tb_engine1 #(
         .line_o(line_o), .line_oe(line_oe), .line_i(line_i),
         .busy(busy), .pending(pending_unused), .st_ch(1'b0), .st_pend(st_pend_unused),
         .cancelling(cancelling_unused), .phase(phase), .fld(fld),
-        .sc_v(sc_v_unused), .sc_ch(sc_ch_unused), .sc_ph(sc_ph_unused),
+        .sc_v(sc_v_unused), .sc_ch(sc_ch_unused), .sc_ph(sc_ph_unused), .sc_tr(sc_tr_unused),
         .p_take(p_take_unused), .p_res(p_res_unused), .p_ch(p_ch_unused),
         .p_data(p_data_unused), .p_status(p_status_unused), .p_count(p_count_unused)
     );
@@ -65,7 +66,7 @@ module tb_engine1 #(
     wire unused = &{1'b0, scan_unused, res_ch_unused, pending_unused, st_pend_unused,
                     cancelling_unused, p_take_unused, p_res_unused, p_ch_unused,
                     p_data_unused, p_status_unused, p_count_unused, sc_v_unused, sc_ch_unused,
-                    sc_ph_unused};
+                    sc_ph_unused, sc_tr_unused};
     // verilator lint_on UNUSEDSIGNAL
 endmodule
 `default_nettype wire

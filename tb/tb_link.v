@@ -123,7 +123,7 @@ module tb_link #(
         .wr(t_wr), .wr_ch(5'd0), .wr_reg(t_reg), .wr_data(t_word), .wr_cmp(t_cmp),
         .rd(1'b0), .rd_ch(5'd0), .rd_reg(2'd0), .rd_data(t_rd_unused),
         .pc_rd(1'b0), .pc_ch(5'd0), .pc_word(),
-        .sc_v(1'b0), .sc_ch(5'd0), .sc_ph(3'd0),
+        .sc_v(1'b0), .sc_ch(5'd0), .sc_ph(3'd0), .sc_tr(2'd0),
         .nx_fld(nx_fld), .dur_we(dur_we), .dur_v(dur_v), .dur_ch(dur_ch), .dur(dur),
         .dur_fld(dur_fld)
     );

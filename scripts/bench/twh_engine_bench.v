@@ -56,7 +56,7 @@ module twh_engine_bench #(
         .m_res_data(rdata), .m_res_status(rst_s), .m_res_tag(rtag),
         .line_o(line_o), .line_oe(line_oe), .line_i(line_i), .busy(busy),
         .phase(phase), .pending(pending), .st_ch(sr[CW-1:0]), .st_pend(st_pend),
-        .cancelling(), .fld(), .sc_v(), .sc_ch(), .sc_ph(),
+        .cancelling(), .fld(), .sc_v(), .sc_ch(), .sc_ph(), .sc_tr(),
         .p_take(p_take), .p_res(p_res), .p_ch(p_ch), .p_data(p_data), .p_status(p_status), .p_count(p_count)
     );
     // every output registered before the fold, so the fold's XOR tree is
