@@ -101,9 +101,11 @@ UP5K_LC, UP5K_RAM = 5280, 30
 
 # pieces of the three-channel core placed alone on the HX8K, every port a
 # pin (nothing trimmed): what each weighs by itself (docs/engine.md)
-PIECES = [("twh_engine", {"CHANNELS": "3", "TAG_W": "5"},
+# (the engine with 4-bit tags, where the core's are 5 bits: with 5 its
+# ports are 207, one more than the HX8K CT256's pins)
+PIECES = [("twh_engine", {"CHANNELS": "3", "TAG_W": "4"},
            "the time-shared engine of three channels (sequencer, frame, receiver, "
-           "queues, result hand-over, pins; its RAMs)"),
+           "queues, result hand-over, pins; its RAMs; 4-bit tags)"),
           ("twh_polls", {"CHANNELS": "3"}, "three channels' pollers with their registers "
                                            "in RAM"),
           ("twh_fifo", {"W": "33", "DEPTH": "16"}, "the 16-deep command FIFO"),
