@@ -220,11 +220,14 @@ module twh_core #(
     reg        q_r_id, q_r_version, q_r_params, q_r_ctrl, q_r_status, q_r_levels,
                q_r_errors, q_r_irq_en, q_r_irq_status, q_r_poll_ready, q_r_res_info,
                q_r_res_pop, q_r_idle, q_r_busy;
-    // TIMING0-2, or POLL_CTRL with POLLING, of an existing channel read:
-    // twh_timing's memory. One flip-flop, as it selects that memory's read
-    // address (ECP5's LUT RAM reads it in the same clock: an OR of two
-    // selects stood there)
-    reg        q_r_tm;
+    // TIMING0-2 (q_r_t), or POLL_CTRL (q_r_pc, in twh_timing's memory too
+    // with POLLING), of an existing channel read: twh_timing's memory. In
+    // LUT RAM (RAM_BLOCK = 0, the ECP5's), which reads its address in the
+    // clock, that read selects the address, so it is one flip-flop of its
+    // own (q_r_tm: an OR of the two stood there); a block RAM registers
+    // its address itself, and there the OR is what placed better (the
+    // UP5K's three channels two MHz faster). The two unused are removed.
+    reg        q_r_t, q_r_pc, q_r_tm;
     // POLL_RESULT / STATE of an existing channel read (twh_polls' memory
     // and the engine's copies: twh_core_engine)
     reg        q_r_pr, q_r_st;
@@ -276,7 +279,7 @@ module twh_core #(
     always @(posedge clk) if (i_load) begin
         if (rst || !reg_req) begin
             q_req <= 1'b0; q_wr <= 1'b0; q_rd <= 1'b0;
-            q_wr_t <= 1'b0; q_r_tm <= 1'b0; q_ref_p <= 1'b0; q_r_pr <= 1'b0; q_r_st <= 1'b0;
+            q_wr_t <= 1'b0; q_r_t <= 1'b0; q_r_pc <= 1'b0; q_r_tm <= 1'b0; q_ref_p <= 1'b0; q_r_pr <= 1'b0; q_r_st <= 1'b0;
             q_r_id <= 1'b0; q_r_version <= 1'b0; q_r_params <= 1'b0; q_r_ctrl <= 1'b0;
             q_r_status <= 1'b0; q_r_levels <= 1'b0; q_r_errors <= 1'b0; q_r_irq_en <= 1'b0;
             q_r_irq_status <= 1'b0; q_r_poll_ready <= 1'b0; q_r_res_info <= 1'b0;
@@ -289,6 +292,8 @@ module twh_core #(
             q_wr       <= i_wr;
             q_rd       <= i_rd;
             q_wr_t     <= i_wr && i_ch_ok && reg_addr[4:2] <= 3'd2;
+            q_r_t      <= i_rd && i_ch_ok && reg_addr[4:2] <= 3'd2;
+            q_r_pc     <= i_rd && i_ch_ok && reg_addr[4:2] == 3'd3;
             q_r_tm     <= i_rd && i_ch_ok && (reg_addr[4:2] <= 3'd2 ||
                                           (POLLING != 0 && reg_addr[4:2] == 3'd3));
             q_r_pr     <= i_rd && i_ch_ok && reg_addr[4:2] == 3'd4;
@@ -492,7 +497,8 @@ module twh_core #(
     // go there, as register 3, and the pollers' walker reads it through
     // the same port
     wire        p_wr  = q_wp && wr && q_win_p && POLLING != 0;
-    wire        t_prd = q_r_tm;                  // the bus reads twh_timing's memory
+    wire        t_prd = (RAM_BLOCK == 0) ? q_r_tm              // the bus reads twh_timing's memory
+                                     : (q_r_t || (q_r_pc && POLLING != 0));
     wire        pc_rd;
     wire [4:0]  pc_ch;
     wire [31:0] pc_word;
@@ -765,7 +771,7 @@ module twh_core #(
     // request in the stage every strobe and select is 0, and with no
     // answer the read word is 0.
     always @(*) if (f_rs && !q_req) begin
-        assert({q_wr, q_rd, q_wr_t, q_r_tm, q_ref_p, q_r_pr, q_r_st} == 0);
+        assert({q_wr, q_rd, q_wr_t, q_r_t, q_r_pc, q_r_tm, q_ref_p, q_r_pr, q_r_st} == 0);
         assert({q_r_id, q_r_version, q_r_params, q_r_ctrl, q_r_status, q_r_levels,
                 q_r_errors, q_r_irq_en, q_r_irq_status, q_r_poll_ready, q_r_res_info,
                 q_r_res_pop, q_r_idle, q_r_busy} == 0);
@@ -904,6 +910,8 @@ module twh_core #(
     always @(*) if (f_rs && f_h)
         assert(q_r_tm == (rd && ch_exists && (ch_reg <= 3'd2 ||
                                               (POLLING != 0 && ch_reg == 3'd3))) &&
+               q_r_t == (rd && ch_exists && ch_reg <= 3'd2) &&
+               q_r_pc == (rd && ch_exists && ch_reg == 3'd3) &&
                q_r_pr == (rd && ch_exists && ch_reg == 3'd4) &&
                q_r_st == (rd && ch_exists && ch_reg == 3'd5) &&
                (!(q_r_tm || q_r_pr || q_r_st) || q_blk == ch_sel));

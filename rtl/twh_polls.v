@@ -96,11 +96,15 @@ module twh_polls #(
     reg [1:0]    w_s;           // 0 read, 1 step (from the words read), 2 commit
     reg          w_r;           // w_on && w_s == 0: the walker asks for the port
     reg [CW-1:0] w_ch;
-    wire         w_read = w_r && !port_rd;   // the walker reads this clock
     // (it asks for the port whatever the bus does, which goes first: its
-    // request is a flip-flop of its own, so that twh_timing's read address
-    // is one LUT of flip-flops: ECP5's LUT RAM reads it in the clock)
-    assign pc_rd = w_r;
+    // request is flip-flops' alone, off the bus's path into the memory's
+    // address. In LUT RAM (RAM_BLOCK = 0, the ECP5's), which reads the
+    // address in the clock, it is a flip-flop of its own, so that
+    // twh_timing's read address is one LUT of flip-flops; a block RAM
+    // registers its address itself, and there the flip-flop placed the
+    // UP5K's three channels two MHz slower: w_r is then unused)
+    assign pc_rd = (RAM_BLOCK == 0) ? w_r : (w_on && w_s == 2'd0);
+    wire         w_read = pc_rd && !port_rd;   // the walker reads this clock
     assign pc_ch = w_ch;
     // the engine's copy of the command (below) is a memory of this module,
     // as twh_ram's, so that its proof can name its words (g_mem.cm_mem:
