@@ -153,16 +153,23 @@ module twh_core #(
         .sel(reg_addr[3:2]), .value(reg_wdata),
         .lo_below(i_cmp[0]), .lo_above(i_cmp[1]), .hi_below(i_cmp[2]), .hi_above(i_cmp[3])
     );
+    // Each compare of a bus field with a constant range is a constant map
+    // (bit k: k is in the range) indexed by the field: synthesis folds it
+    // into a few LUTs, where a `<` against a constant became an iCE40 carry
+    // chain, one logic cell a bit whose LUT is left empty, and one more to
+    // take the chain's carry out (about 25 cells at one channel).
+    // The read-only commands a poll may name: 0x40-0x44, 0x46-0x49.
+    localparam [255:0] RO_CMD_MAP = (256'h1F << 8'h40) | (256'h0F << 8'h46);
     // the command is checked only when polling is switched on, so writing 0
     // always stops polling
-    wire        i_win_p = !reg_wdata[31] || ((POLLING != 0) &&
-                                             ((i_cmd >= 8'h40 && i_cmd <= 8'h44) ||
-                                              (i_cmd >= 8'h46 && i_cmd <= 8'h49)));
+    wire        i_win_p = !reg_wdata[31] || ((POLLING != 0) && RO_CMD_MAP[i_cmd]);
     // erase (0x4A/4B) or write (0x80-0xFF) addressed to words 0x00-0x1F
+    // (bit k of the map: word k is in the factory area)
+    localparam [511:0] FACTORY_MAP = (512'd1 << `TWH_FACTORY_END) - 512'd1;
     wire [8:0]  i_erase_addr = {i_cmd[0], reg_wdata[15:8]};     // payload low byte
     wire [8:0]  i_write_addr = {reg_wdata[23:22], i_cmd[6:0]};  // payload bits 15:14
-    wire        i_factory = ((i_cmd[7:1] == 7'b0100101) && (i_erase_addr < `TWH_FACTORY_END)) ||
-                            (i_cmd[7] && (i_write_addr < `TWH_FACTORY_END));
+    wire        i_factory = ((i_cmd[7:1] == 7'b0100101) && FACTORY_MAP[i_erase_addr]) ||
+                            (i_cmd[7] && FACTORY_MAP[i_write_addr]);
 
     // The address is decoded on the way in too: one flag per register that
     // a write or a read changes something in, and whether it is mapped.
@@ -179,7 +186,11 @@ module twh_core #(
     // (the checks compare the block's address with constants, not the
     // subtraction's result: a carry chain into a compare was the UP5K's
     // path into the request stage)
-    wire       i_ch_ok  = i_is_ch && (reg_addr[10:5] < CH_END);
+    // (bit k of a map: 32-byte block k is a present channel's / any
+    // channel's, CH[0] being block 4)
+    localparam [63:0] BLK_CH_MAP  = ((64'd1 << CH_END) - 64'd1) & ~64'hF;
+    localparam [63:0] BLK_ANY_MAP = ((64'd1 << 36) - 64'd1) & ~64'hF;
+    wire       i_ch_ok  = BLK_CH_MAP[reg_addr[10:5]];
     wire [4:0] i_g      = reg_addr[6:2];
     // a full-word write, a read, a read of a global register: of the
     // request on the port, when there is one (the strobes below)
@@ -188,7 +199,7 @@ module twh_core #(
     wire       i_grd    = !reg_we && !i_is_ch;
     // a CMD_PUSH write in the channel array (CH[0] to CH[31]), the channel
     // present or not (an absent one's is BAD_CHANNEL)
-    wire       i_push   = i_wr && i_is_ch && (reg_addr[10:5] < 6'd36) && reg_addr[4:2] == C_CMD_PUSH;
+    wire       i_push   = i_wr && BLK_ANY_MAP[reg_addr[10:5]] && reg_addr[4:2] == C_CMD_PUSH;
     // The request's data loads only around a request (this one, or the
     // clock after one); between requests its strobes are 0 and the data is
     // unused. Icarus runs every clocked block on every clock, and the idle

@@ -57,7 +57,10 @@ module twh_rx_dec (
     // a start bit passed its re-check (the word keeps no flag of its own:
     // a character came, the answer ended, or one is past its start's
     // re-check at 19 us), which tells a short answer from none
-    wire st = (nb != 2'd0) || fe || en || (ac && (bn != 4'd0 || sub >= 5'd20));
+    // (sub >= 20 as a map, bit k: k >= 20; a compare with a constant became
+    // an iCE40 carry chain)
+    localparam [31:0] SUB_GE20 = ~((32'd1 << 20) - 32'd1);
+    wire st = (nb != 2'd0) || fe || en || (ac && (bn != 4'd0 || SUB_GE20[sub]));
     // the checksum's verdict is the last choice, not inside the chain of
     // the others (when its adder was here, it was the slowest input)
     wire full = sync_low && pre_high && !fe && (nb == 2'd3);

@@ -22,7 +22,9 @@ module twh_rx_step (
     wire [1:0]  vt  = rx[`TWH_RX_VT +: 2];
     wire [1:0]  nb  = rx[`TWH_RX_NB +: 2];
     wire        ac  = rx[`TWH_RX_AC];
-    wire        bit_val = ({1'b0, vt} + {2'b00, env}) >= 3'd2;
+    // two votes of three: vt + env >= 2, as logic (an adder and compare
+    // became an iCE40 carry chain)
+    wire        bit_val = vt[1] || (vt[0] && env);
     always @(*) begin
         rx_n = rx;
         // a data bit (dec[8]: not done, in a character, at the bit's
