@@ -406,7 +406,10 @@ module twh_core #(
     // verilator lint_off UNUSEDSIGNAL
     wire [31:0] h_ch_w    = {{(32-CF_CW){1'b0}}, cmd_head[CF_T-1:24]};
     // verilator lint_on UNUSEDSIGNAL
-    wire [4:0]  h_ch      = h_ch_w[4:0];
+    // (one channel: channel 0, said as a constant; the FIFO's word says so
+    // too, but synthesis cannot see into a RAM, and the compares behind it
+    // stayed)
+    wire [4:0]  h_ch      = (CH_N == 1) ? 5'd0 : h_ch_w[4:0];
     wire [4:0]  h_tag     = cmd_head[CF_B-1:CF_T];
     wire        h_blocked = cmd_head[CF_B];
 

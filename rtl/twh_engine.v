@@ -821,7 +821,9 @@ module twh_engine #(
     always @(posedge clk) begin
         rc_v    <= !rst && rc_v_n;
         rc_ch   <= rc_ch_n;
-        s2_mine <= !rc_v_n || (rc_ch_n == s1_ch);
+        // (one channel: always its own, said here rather than left to the
+        // claim's flip-flops, whose power-up value synthesis cannot rule out)
+        s2_mine <= (CHANNELS == 1) || !rc_v_n || (rc_ch_n == s1_ch);
     end
 
     // ------------------------------------------------------------ S3

@@ -164,16 +164,21 @@ module twh_timing #(
     // with the end a carry, not a compare against CHANNELS
     localparam integer SW_ON = (PROG != 0 || POLL != 0) ? 1 : 0;
     reg  [AW:0] sw_n;
-    reg         sw_on;
+    reg         sw_run;
     always @(posedge clk) begin
         if (rst) begin
-            sw_n  <= {(AW+1){1'b0}};
-            sw_on <= (SW_ON != 0);
-        end else if (sw_on) begin
-            sw_n  <= sw_n + 1'b1;
-            sw_on <= (sw_n != {(AW+1){1'b1}});
+            sw_n   <= {(AW+1){1'b0}};
+            sw_run <= (SW_ON != 0);
+        end else if (sw_run) begin
+            sw_n   <= sw_n + 1'b1;
+            sw_run <= (sw_n != {(AW+1){1'b1}});
         end
     end
+    // Without a sweep (SW_ON = 0) the flag is a constant 0 here, not just
+    // from reset: a flip-flop could hold a 1 from power-up until the first
+    // reset, so synthesis would keep the counter (ten cells of the lean
+    // build) for it.
+    wire        sw_on = (SW_ON != 0) && sw_run;
     assign ready = !sw_on;
     assign sw_we = sw_on && !sw_n[AW];
     wire [AW-1:0] sw_a = sw_n[AW-1:0];
@@ -232,9 +237,12 @@ module twh_timing #(
     reg         e_ok;
     reg  [4:0]  e_ch;
     reg  [2:0]  e_fld;
+    // (one channel: 0 as a constant, not just from reset, as the sweep's
+    // flag above; with a round of one the counter could only hold a value
+    // from power-up, and synthesis kept it)
     always @(posedge clk) begin
-        if (rst || f_ch == LAST_CH)      f_ch <= 5'd0;
-        else                             f_ch <= f_ch + 5'd1;
+        if (rst || f_ch == LAST_CH || CHANNELS == 1) f_ch <= 5'd0;
+        else                                         f_ch <= f_ch + 5'd1;
     end
     generate
         if (CHANNELS > 1) begin : g_stage
