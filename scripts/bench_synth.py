@@ -46,6 +46,8 @@ GOALS = {
     "lean-3": ("lean build, 3 channels", 1300),
 }
 RAM_GOAL_3 = 11          # iCE40 block RAMs at three channels, at most
+RAM_GOAL_32 = 20         # ... at 32 channels
+RAM_GOAL_PER_4 = 1       # ... a further four channels (the slope from 8 to 32)
 FMAX_GOALS = {"hx8k": 100, "up5k": 48, "ecp5-25f": 160}
 # part, target MHz (its Fmax goal)
 CORE_RUNS = [("hx8k", FMAX_GOALS["hx8k"]), ("ecp5-25f", FMAX_GOALS["ecp5-25f"])]
@@ -97,6 +99,7 @@ LEAN = {"PROG_TIMING": "0", "POLLING": "0"}
 SEEDS = (1, 2, 3, 4, 5)
 # the reference SoC-sized part (iCE40UP5K: logic cells, 4 kbit block RAMs)
 UP5K_LC, UP5K_RAM = 5280, 30
+ECP5_25F_COMB = 24288    # the LFE5U-25F's LUT4s (nextpnr's TRELLIS_COMB), for an unmeasured row
 
 
 # pieces of the three-channel core placed alone on the HX8K, every port a
@@ -237,9 +240,27 @@ def goal_rows(runs, medians, no_boards):
     for key in ("per-channel", "full-1", "full-3", "full-8", "full-16", "full-32"):
         what, goal = GOALS[key]
         rows.append(vs_goal(what, lc[key], goal, "LC"))
-    r3 = runs.get("hx8k-twh_wb-3")
+    r3, r8, r32 = (runs.get(f"hx8k-twh_wb-{ch}") for ch in (3, 8, 32))
     rows.append(vs_goal("block RAM (iCE40 4-kbit blocks), 3 channels",
                         r3["ram"] if r3 else None, RAM_GOAL_3, "blocks"))
+    rows.append(vs_goal("block RAM, 32 channels",
+                        r32["ram"] if r32 else None, RAM_GOAL_32, "blocks"))
+    rows.append(vs_goal("block RAM a further four channels: the slope from 8 to 32 channels",
+                        (r32["ram"] - r8["ram"]) * 4 / 24 if r8 and r32 else None,
+                        RAM_GOAL_PER_4, "blocks"))
+    # "32 channels also fit the UP5K and the ECP5-25F": the ECP5-25F's run
+    # is placed on that part; the UP5K's SG48 has fewer pins than the bare
+    # core's ports, so its row compares the HX8K's placed figures (the same
+    # iCE40 logic cell and 4-kbit block RAM) with the UP5K's capacity
+    rows.append(vs_goal(f"32 channels on the UP5K: logic cells (the HX8K's placement; "
+                        f"the UP5K has {UP5K_LC})", r32["logic"] if r32 else None,
+                        UP5K_LC, "LC"))
+    rows.append(vs_goal(f"32 channels on the UP5K: block RAM (the UP5K has {UP5K_RAM})",
+                        r32["ram"] if r32 else None, UP5K_RAM, "blocks"))
+    e32 = runs.get("ecp5-25f-twh_wb-32")
+    rows.append(vs_goal("32 channels on the ECP5-25F: logic (TRELLIS_COMB, placed on the part)",
+                        e32["logic"] if e32 else None,
+                        e32["logic_avail"] if e32 else ECP5_25F_COMB, "COMB"))
     for key in ("lean-1", "lean-3"):
         what, goal = GOALS[key]
         rows.append(vs_goal(what, lc[key], goal, "LC"))
@@ -390,7 +411,7 @@ def run_parallel(a):
         calls.append((args, kw))
         g = b.arguments
         return {"part": g["part"], "top": g["top"], "params": g["params"], "logic": 0,
-                "lut": 0, "ff": 0, "ram": 0, "lutram": 0, "fmax": 0.0, "freq": g["freq"],
+                "logic_avail": 0, "lut": 0, "ff": 0, "ram": 0, "lutram": 0, "fmax": 0.0, "freq": g["freq"],
                 "timing_met": False, "yosys_warnings": 0, "pnr_flow": [], "pnr_errors": [],
                 "seconds": 0}
     synth.synth = record

@@ -180,15 +180,17 @@ def synth(part, top, params, files, freq, out, constraints=None, pack=False, see
     lutram = sum(n for c, n in cells.items() if c.startswith("TRELLIS_DPR16X4"))
     util = rep["utilization"]
     if fam == "ice40":
-        logic = util["ICESTORM_LC"]["used"]
+        logic_util = util["ICESTORM_LC"]
         lut = cells.get("SB_LUT4", 0)
     else:
-        logic = util["TRELLIS_COMB"]["used"] if "TRELLIS_COMB" in util else util["TRELLIS_SLICE"]["used"]
+        logic_util = util["TRELLIS_COMB"] if "TRELLIS_COMB" in util else util["TRELLIS_SLICE"]
         lut = cells.get("LUT4", 0)
+    logic = logic_util["used"]
     fmax = min((v["achieved"] for v in rep["fmax"].values()), default=0.0)
     crit_warn = [l for l in (ROOT / out / "nextpnr.log").read_text().splitlines()
                  if "ERROR" in l or "Critical" in l and "warning" in l.lower()]
-    return {"part": part, "top": top, "params": params, "logic": logic, "lut": lut,
+    return {"part": part, "top": top, "params": params, "logic": logic,
+            "logic_avail": logic_util["available"], "lut": lut,
             "ff": ff, "ram": ram, "lutram": lutram, "fmax": round(fmax, 1), "freq": freq,
             "timing_met": fmax >= freq, "yosys_warnings": len(warnings),
             "pnr_flow": [] if default_pnr else PNR_FLOW[fam], "synth_flow": synth_opts,
