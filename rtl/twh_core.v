@@ -157,7 +157,7 @@ module twh_core #(
     // (bit k: k is in the range) indexed by the field: synthesis folds it
     // into a few LUTs, where a `<` against a constant became an iCE40 carry
     // chain, one logic cell a bit whose LUT is left empty, and one more to
-    // take the chain's carry out (about 25 cells at one channel).
+    // take the chain's carry out (47 cells at one channel, HX8K).
     // The read-only commands a poll may name: 0x40-0x44, 0x46-0x49.
     localparam [255:0] RO_CMD_MAP = (256'h1F << 8'h40) | (256'h0F << 8'h46);
     // the command is checked only when polling is switched on, so writing 0

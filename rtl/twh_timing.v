@@ -176,8 +176,8 @@ module twh_timing #(
     end
     // Without a sweep (SW_ON = 0) the flag is a constant 0 here, not just
     // from reset: a flip-flop could hold a 1 from power-up until the first
-    // reset, so synthesis would keep the counter (ten cells of the lean
-    // build) for it.
+    // reset, so synthesis would keep the counter (fourteen cells of the
+    // lean build) for it.
     wire        sw_on = (SW_ON != 0) && sw_run;
     assign ready = !sw_on;
     assign sw_we = sw_on && !sw_n[AW];
