@@ -51,6 +51,10 @@ module twh_core_engine #(
     output wire                   pc_rd,
     output wire [4:0]             pc_ch,
     input  wire [31:0]            pc_word,
+    input  wire [15:0]            pc_tm,
+    input  wire                   port_wr,
+    output wire                   pt_we,
+    output wire [15:0]            pt_wd,
     output wire [CHANNELS*3-1:0]  nx_ph,
     output wire                   sc_v,
     output wire [4:0]             sc_ch,
@@ -177,6 +181,8 @@ module twh_core_engine #(
     reg rd_q;
     always @(posedge clk) rd_q <= !rst && (rd_res || rd_state);
     assign pc_rd       = 1'b0;
+    assign pt_we       = 1'b0;
+    assign pt_wd       = 16'd0;
     // (the stand-in jobs cut twh_timing: no visit names a fetch here)
     assign sc_v        = 1'b0;
     assign sc_ch       = 5'd0;
@@ -201,7 +207,7 @@ module twh_core_engine #(
     end
 
     // verilator lint_off UNUSEDSIGNAL
-    wire unused = &{1'b0, ms_tick, sw_we, port_rd, pc_word, tick, fall, idle_charge, wdata, pc_wr, reg_ch,
+    wire unused = &{1'b0, ms_tick, sw_we, port_rd, pc_word, pc_tm, port_wr, tick, fall, idle_charge, wdata, pc_wr, reg_ch,
                     dur_v, dur_ch, dur, dur_fld, cmd_payload, line_i, CLK_HZ[0], POLLING[0],
                     RAM_BLOCK[0]};
     // verilator lint_on UNUSEDSIGNAL

@@ -20,9 +20,9 @@ FORMAL_JOBS_long = \
     twh_engine:lean1
 FORMAL_JOBS_rest = \
     twh_core:eng1 twh_core:eng2 twh_core:cover_eng2 twh_core:port \
-    twh_polls:ch2 twh_polls:ch3 twh_polls:cover3 \
+    twh_polls:ch2 twh_polls:ch3 twh_polls:ch3lut twh_polls:cover3 \
     twh_sync2:prove twh_window:prove \
-    twh_fifo:prove_d4 twh_fifo:prove_d2 twh_fifo:cover_d4 \
+    twh_fifo:prove_d4 twh_fifo:prove_d2 twh_fifo:prove_d4h twh_fifo:cover_d4 \
     twh_wb:prove twh_wb:prove_abort twh_wb:cover \
     twh_axil:prove twh_axil:cover \
     twh_carrier:c4 twh_carrier:c5 twh_carrier:c10_5 twh_carrier:c13_56 \

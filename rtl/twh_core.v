@@ -395,6 +395,12 @@ module twh_core #(
     localparam integer CF_T  = 24 + CF_CW;       // the tag's low bit
     localparam integer CF_B  = CF_T + 5;         // the blocked flag
     localparam integer CF_W  = CF_B + 1;
+    // above four channels the entry's bits above 32 (the channel's top
+    // ones) in flip-flops, so that the RAM stays two iCE40 blocks rather
+    // than three (twh_fifo's LH: 3 x FIFO_DEPTH flip-flops and their
+    // multiplexer at 32 channels); with LUT RAM (RAM_BLOCK = 0: the ECP5,
+    // whose block RAM is 36 bits wide anyway) the entry stays whole
+    localparam integer CF_LH = (RAM_BLOCK != 0 && CF_W > 32) ? CF_W - 32 : 0;
     wire [CF_W-1:0] cmd_head;
     wire        push_bad_ch = q_bad_ch;      // the push is to an absent channel
     wire        push_ok   = q_push_ch && !cmd_full;
@@ -442,7 +448,7 @@ module twh_core #(
     wire [3:0] h_skip = (flushing || flush_wr) ? `TWH_ST_CANCELLED :
                         disp_blk               ? `TWH_ST_BLOCKED : 4'd0;
 
-    twh_fifo #(.W(CF_W), .DEPTH(DEPTH_N)) u_cmd_fifo (
+    twh_fifo #(.W(CF_W), .DEPTH(DEPTH_N), .LH(CF_LH)) u_cmd_fifo (
         .clk(clk), .rst(rst),
         .push(push_ok), .din({p_blocked, q_wdata[28:24], q_blk[CF_CW-1:0], q_wdata[23:0]}), .full(cmd_full),
         .pop(take), .dout(cmd_head), .empty(cmd_empty), .valid_next(cmd_valid_next),
@@ -515,18 +521,22 @@ module twh_core #(
     wire        t_prd = (RAM_BLOCK == 0) ? q_r_tm              // the bus reads twh_timing's memory
                                      : (q_r_t || (q_r_pc && POLLING != 0));
     wire        pc_rd;
+    wire        t_pwr = t_wr || p_wr;   // twh_timing's memory is written now
     wire [4:0]  pc_ch;
     wire [31:0] pc_word;
+    wire [15:0] pc_tm, pt_wd;     // the pollers' timers in twh_timing's memory
+    wire        pt_we;
     // (its reset sweep writes POLL_CTRL's reset value too; the register
     // port waits for it, t_ready)
     twh_timing #(.CHANNELS(CH_N), .PROG(PROG_TIMING), .NX_PHASE(1),
                  .POLL(POLLING != 0 ? 1 : 0), .RAM_BLOCK(RAM_BLOCK)) u_timing (
         .clk(clk), .rst(rst), .ready(t_ready), .sw_we(t_sw_we),
         .sw_reg(t_sw_reg), .lab(lab),
-        .wr(t_wr || p_wr), .wr_ch(q_blk), .wr_reg(q_treg),
+        .wr(t_pwr), .wr_ch(q_blk), .wr_reg(q_treg),
         .wr_data(q_wdata), .wr_cmp(q_cmp),
         .rd(t_prd), .rd_ch(q_blk), .rd_reg(q_treg), .rd_data(t_rdata),
         .pc_rd(pc_rd), .pc_ch(pc_ch), .pc_word(pc_word),
+        .pc_tm(pc_tm), .tm_we(pt_we), .tm_wd(pt_wd),
         .sc_v(c_sc_v), .sc_ch(c_sc_ch), .sc_ph(c_sc_ph), .sc_tr(c_sc_tr),
         .nx_fld(c_nx_fld), .dur_we(t_dur_we), .dur_v(t_dur_v), .dur_ch(t_dur_ch), .dur(t_dur),
         .dur_fld(t_dur_fld)
@@ -539,6 +549,7 @@ module twh_core #(
         .wdata(q_wdata), .pc_wr(p_wr), .port_rd(t_prd),
         .rd_res(q_r_pr), .rd_state(q_r_st), .reg_ch(q_blk), .rd_data(p_rdata),
         .pc_rd(pc_rd), .pc_ch(pc_ch), .pc_word(pc_word),
+        .pc_tm(pc_tm), .port_wr(t_pwr), .pt_we(pt_we), .pt_wd(pt_wd),
         .nx_ph(c_nx_fld), .sc_v(c_sc_v), .sc_ch(c_sc_ch), .sc_ph(c_sc_ph), .sc_tr(c_sc_tr), .dur_v(t_dur_v), .dur_ch(t_dur_ch), .dur(t_dur),
         .dur_fld(t_dur_fld), .poll_sample(c_sample), .poll_error(c_poll_err),
         .cmd_valid(dispatch), .cmd_ch(disp_ch), .cmd_code(h_cmd),

@@ -58,6 +58,11 @@ module twh_core_engine #(
     output wire                   pc_rd,
     output wire [4:0]             pc_ch,
     input  wire [31:0]            pc_word,
+    // the pollers' timers in twh_timing's memory (twh_polls' TMR)
+    input  wire [15:0]            pc_tm,
+    input  wire                   port_wr,      // the bus writes twh_timing's memory now
+    output wire                   pt_we,
+    output wire [15:0]            pt_wd,
     // phase lengths from twh_timing
     output wire [CHANNELS*3-1:0]  nx_ph,        // each channel's phase (twh_timing's NX_PHASE;
                                                 // its fetch reads it with one channel)
@@ -146,6 +151,7 @@ module twh_core_engine #(
         .wr(pc_wr), .wr_ch(reg_ch[CW-1:0]), .wr_data(wdata),
         .port_rd(port_rd), .rd_res(rd_res), .rd_ch(reg_ch[CW-1:0]), .rd_data(p_rdata),
         .pc_rd(pc_rd), .pc_ch(pc_cw), .pc_word(pc_word),
+        .pc_tm(pc_tm), .port_wr(port_wr), .pt_we(pt_we), .pt_wd(pt_wd),
         .scan_ch(scan_ch), .poll_cmd(p_cmd), .poll_req(p_due),
         .p_take(p_take), .p_res(p_res), .p_ch(p_ch), .p_data(p_data), .p_status(p_status),
         .p_count(p_count), .sample(poll_sample), .error(poll_error)

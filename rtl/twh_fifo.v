@@ -5,10 +5,17 @@
 // output a clock later, so `empty` can be 1 with an entry on its way: a
 // user that reports whether anything is queued takes `vacant`. DEPTH must be
 // a power of two.
+//
+// LH > 0 keeps an entry's top LH bits in flip-flops beside the RAM: iCE40
+// block RAMs are 16 bits wide, so an entry a few bits over a multiple of
+// 16 would otherwise take a whole block for them (the core's command FIFO
+// above four channels: 33-35 bits, two blocks and LH flip-flops an entry
+// rather than three blocks).
 `default_nettype none
 module twh_fifo #(
     parameter integer W     = 8,
-    parameter integer DEPTH = 16
+    parameter integer DEPTH = 16,
+    parameter integer LH    = 0      // top bits in flip-flops (0 .. W-1)
 ) (
     input  wire                         clk,
     input  wire                         rst,
@@ -16,7 +23,7 @@ module twh_fifo #(
     input  wire [W-1:0]                 din,
     output wire                         full,
     input  wire                         pop,
-    output reg  [W-1:0]                 dout,
+    output wire [W-1:0]                 dout,
     output wire                         empty,
     output wire                         valid_next,  // !empty as it will be next clock
     output wire [$clog2(DEPTH+1)-1:0]   level,
@@ -37,13 +44,17 @@ module twh_fifo #(
         if ((1 << AW) != DEPTH || DEPTH < 2) begin : g_bad_depth
             twh_error_DEPTH_must_be_a_power_of_two_2_or_more u_err ();
         end
+        if (LH < 0 || LH >= W) begin : g_bad_lh
+            twh_error_LH_must_be_0_to_W_minus_1 u_err ();
+        end
     endgenerate
 
     // A write and a read never meet at one address (the read address is
     // only written while the RAM is full, and a full FIFO takes no push;
     // proven below), so Yosys need not build its read-during-write bypass:
     // on iCE40 that bypass costs a register and a multiplexer per bit.
-    (* no_rw_check *) reg [W-1:0] mem [0:DEPTH-1];
+    (* no_rw_check *) reg [W-LH-1:0] mem [0:DEPTH-1];
+    reg [W-LH-1:0] d_lo;
     reg [AW:0]  wr_ptr;
     // verilator lint_off UNUSEDSIGNAL
     reg [AW:0]  rd_ptr;     // top bit read by the proofs only (occupancy)
@@ -89,9 +100,22 @@ module twh_fifo #(
     wire [LW-1:0] level_dn = level_r - 1'b1;
 
     always @(posedge clk) begin
-        if (do_push) mem[wr_ptr[AW-1:0]] <= din;
-        if (load)    dout <= mem[rd_ptr[AW-1:0]];
+        if (do_push) mem[wr_ptr[AW-1:0]] <= din[W-LH-1:0];
+        if (load)    d_lo <= mem[rd_ptr[AW-1:0]];
     end
+    generate
+        if (LH > 0) begin : g_hi
+            (* ram_style = "logic" *) reg [LH-1:0] hi [0:DEPTH-1];
+            reg [LH-1:0] d_hi;
+            always @(posedge clk) begin
+                if (do_push) hi[wr_ptr[AW-1:0]] <= din[W-1:W-LH];
+                if (load)    d_hi <= hi[rd_ptr[AW-1:0]];
+            end
+            assign dout = {d_hi, d_lo};
+        end else begin : g_lo
+            assign dout = d_lo;
+        end
+    endgenerate
 
     always @(posedge clk) begin
         if (rst) begin
@@ -222,11 +246,19 @@ module twh_fifo #(
 
     // where the followed word is stored while it waits behind others
     wire [AW:0] f_slot = rd_ptr + f_pos[AW:0] - {{AW{1'b0}}, out_valid};
+    wire [W-1:0] f_stored;
+    generate
+        if (LH > 0) begin : g_f_hi
+            assign f_stored = {g_hi.hi[f_slot[AW-1:0]], mem[f_slot[AW-1:0]]};
+        end else begin : g_f_lo
+            assign f_stored = mem[f_slot[AW-1:0]];
+        end
+    endgenerate
     always @(*) begin
         if (f_ok && f_track) begin
             assert(f_pos < f_count);
             if (f_pos == {LW{1'b0}} && out_valid) assert(dout == f_data);
-            else assert(mem[f_slot[AW-1:0]] == f_data);
+            else assert(f_stored == f_data);
         end
     end
 

@@ -25,7 +25,10 @@
 //   write in the commit's own clock counts as after the commit (the step
 //   keeps the word it read; the write's EN = 0 withdraws what the commit
 //   raises a clock later), so no bus compare reaches the commit's RAM
-//   write enables.
+//   write enables. (With the timers in twh_timing's memory, TMR below, a
+//   commit never meets a write there: it waits for a clock without one,
+//   the walker reading the channel again; the single bit port_wr, not a
+//   compare, is what reaches the timer's write enable.)
 // - POLL_RESULT is written when a poll's result arrives, with the count
 //   the engine keeps in the channel's state word; a read in the clock of
 //   that write answers the word before it (the read comes first, and the
@@ -38,6 +41,12 @@
 //   The memory holds the answer's bytes whatever its status; the read
 //   shows them only with OK or BAD_CHECKSUM (16 cells fewer than a zero
 //   in front of the write).
+// - The timers: above one channel in block RAM (TMR), each channel's
+//   timer is in its POLL_CTRL word of twh_timing's memory (pc_tm, read
+//   with pc_word; written at the commit, pt_we), a block fewer; the commit
+//   then waits for a clock in which the bus does not write that memory
+//   (port_wr): the walker reads the channel again, as after a write to
+//   it. With one channel, or LUT RAM, they are a memory of their own here.
 // - Reset: twh_timing's reset sweep writes every channel's POLL_CTRL with
 //   its reset value; the register port takes no request and the walker
 //   does not start until its writes are over (sw_we; the timers need
@@ -75,6 +84,12 @@ module twh_polls #(
     output wire                pc_rd,
     output wire [CW-1:0]       pc_ch,
     input  wire [31:0]         pc_word,
+    // TMR: pc_ch's timer, read with pc_word; and its write at the commit
+    // (never while port_wr: the bus writes twh_timing's memory now)
+    input  wire [15:0]         pc_tm,
+    input  wire                port_wr,
+    output wire                pt_we,
+    output wire [15:0]         pt_wd,
     // the engine
     input  wire [CW-1:0]       scan_ch,      // its read address (the engine's S1)
     output wire [15:0]         poll_cmd,     // that channel's {payload, code}, a clock later
@@ -127,14 +142,28 @@ module twh_polls #(
             end
         end
     endgenerate
+    // (the same condition as twh_timing's, from the same parameters)
+    localparam integer TMR = (POLLING != 0 && CHANNELS > 1 && RAM_BLOCK != 0) ? 1 : 0;
     wire [15:0] tm_rd;
     wire        tm_we;
     reg  [15:0] tm_wd;
-    twh_ram #(.W(16), .AW(CW), .BLOCK(RAM_BLOCK)) u_timer (
-        .clk(clk), .we(tm_we), .waddr(w_ch), .wdata(q_tm), .re(1'b1), .raddr(w_ch), .rdata(tm_rd)
-    );
-    wire [31:0] pc_w;
     reg  [15:0] q_tm;           // the step's timer word, for the commit
+    generate
+        if (TMR != 0) begin : g_tm_pc
+            assign tm_rd = pc_tm;
+            assign pt_we = tm_we;
+        end else begin : g_tm
+            twh_ram #(.W(16), .AW(CW), .BLOCK(RAM_BLOCK)) u_timer (
+                .clk(clk), .we(tm_we), .waddr(w_ch), .wdata(q_tm), .re(1'b1), .raddr(w_ch), .rdata(tm_rd)
+            );
+            assign pt_we = 1'b0;
+            // verilator lint_off UNUSEDSIGNAL
+            wire unused_tm = port_wr ^ (^pc_tm);
+            // verilator lint_on UNUSEDSIGNAL
+        end
+    endgenerate
+    assign pt_wd = q_tm;
+    wire [31:0] pc_w;
     assign poll_cmd = cm_rd;
 
     // the walker's step for w_ch, from the words read a clock ago and the
@@ -161,7 +190,7 @@ module twh_polls #(
     always @(posedge clk) begin
         q_tm     <= tm_wd;
     end
-    wire commit = w_on && w_s == 2'd2 && !w_dirty;
+    wire commit = w_on && w_s == 2'd2 && !w_dirty && !(TMR != 0 && port_wr);
     localparam [CW-1:0] LAST = CHANNELS[CW-1:0] - 1'b1;
     reg          set_due;       // raise due a clock after the command is written
     reg [CW-1:0] set_ch;
@@ -305,6 +334,11 @@ module twh_polls #(
         f_ro = (c >= 8'h40 && c <= 8'h44) || (c >= 8'h46 && c <= 8'h49);
     endfunction
     always @(*) begin
+        // a POLL_CTRL write is a write of twh_timing's memory
+        if (wr) assume(port_wr);
+        // the timer's write (TMR) waits for a clock without one, and is
+        // never in the sweep or in the walker's own read
+        if (f_ok && !rst && pt_we) assert(TMR != 0 && !port_wr && !sw_we && !pc_rd);
         if (wr && wr_data[31]) assume(f_ro(wr_data[7:0]));
         assume(wr_ch < CHANNELS && rd_ch < CHANNELS && scan_ch < CHANNELS && p_ch < CHANNELS);
     end
@@ -321,7 +355,7 @@ module twh_polls #(
     always @(*) begin
         if (f_ok && !rst) begin
             if (!f_swo) assume(!sw_we);
-            if (f_swo) assume(!wr && !port_rd && !rd_res && !p_take && !p_res);
+            if (f_swo) assume(!wr && !port_rd && !port_wr && !rd_res && !p_take && !p_res);
         end
     end
     // POLL_CTRL of the followed channel as twh_timing's memory holds it

@@ -19,6 +19,18 @@
 //   of that clock is dropped). Kept here rather than in a memory of the
 //   pollers, POLL_CTRL costs no block RAM of its own (two iCE40 blocks) and
 //   no term of its own in the register read's AND-OR (a LUT a bit).
+// - TMR (POLL above one channel, in block RAM): each channel's pollers'
+//   timer lives in its POLL_CTRL word too, in bits 47:32, which the third
+//   iCE40 block of a 36-bit word leaves spare (POLL_CTRL's window flags,
+//   bits 35:32, are never read). The walker reads it with POLL_CTRL
+//   (pc_tm beside pc_word) and writes it at its commit (tm_we, never in
+//   the clock of a bus write or the sweep: the walker yields) by bit
+//   lanes, so neither a bus write nor the timer's touches the other's
+//   bits. That is twh_polls' timer memory gone, a block at every channel
+//   count above one, for a few cells (18 at one channel, where the block
+//   stays; docs/architecture.md). With LUT RAM (RAM_BLOCK = 0) the
+//   blocks are not what costs, and the wider word would widen the read
+//   that is the ECP5-25F's longest path: the timer stays the pollers'.
 // - Reset: a sweep writes every word's default, one word a clock (`SW`
 //   clocks: four words a channel, rounded up to a power of two), then waits
 //   as long again (with one channel the fetch has handed over its lengths
@@ -107,6 +119,11 @@ module twh_timing #(
     input  wire                  pc_rd,
     input  wire [4:0]            pc_ch,
     output wire [31:0]           pc_word,
+    // TMR: pc_ch's timer, read with pc_word; and its write (tm_we: never
+    // with wr or sw_we, nor with pc_rd)
+    output wire [15:0]           pc_tm,
+    input  wire                  tm_we,
+    input  wire [15:0]           tm_wd,
     // engines: above one channel a visit names its channel's field
     // (NX_PHASE: its phase) now; with one channel nx_fld names it
     input  wire                  sc_v,
@@ -153,10 +170,12 @@ module twh_timing #(
     // verilator lint_off UNUSEDPARAM
     localparam STYLE = (RAM_BLOCK != 0) ? "block" : "distributed";
     // verilator lint_on UNUSEDPARAM
-    (* no_rw_check *) (* ram_style = STYLE *) reg [35:0] mem [0:NW-1];
+    localparam integer TMR = (POLL != 0 && CHANNELS > 1 && RAM_BLOCK != 0) ? 1 : 0;
+    localparam integer MW  = (TMR != 0) ? 48 : 36;
+    (* no_rw_check *) (* ram_style = STYLE *) reg [MW-1:0] mem [0:NW-1];
     wire [AW-1:0] wa = {wr_ch[AW-3:0], wr_reg};
     wire [AW-1:0] ra = {rd_ch[AW-3:0], rd_reg};
-    reg  [35:0] m_rd;                     // the port's word: the bus's after rd, else the fetch's
+    reg  [MW-1:0] m_rd;                   // the port's word: the bus's after rd, else the fetch's
 
     // ------------------------------------------------------------ reset sweep
     // sw_n: the word written (first half, sw_n[AW] = 0), then the wait
@@ -183,9 +202,6 @@ module twh_timing #(
     assign sw_we = sw_on && !sw_n[AW];
     wire [AW-1:0] sw_a = sw_n[AW-1:0];
     assign sw_reg = sw_a[1:0];
-    // (the port waits for ready, so a bus write never meets the sweep)
-    always @(posedge clk)
-        if (wr || sw_we) mem[sw_we ? sw_a : wa] <= {wr_cmp, wr_data};
     wire [31:0] rb_word = m_rd[31:0];
     assign pc_word = m_rd[31:0];
     // (the walker's read takes the port after a bus read's: its address;
@@ -193,6 +209,30 @@ module twh_timing #(
     // front of the memory's address: ECP5's LUT RAM reads asynchronously)
     wire          p_rd = pc_rd && POLL != 0;
     wire [AW-1:0] pa   = {pc_ch[AW-3:0], 2'b11};
+    // (the port waits for ready, so a bus write never meets the sweep)
+    generate
+        if (TMR != 0) begin : g_wr_tm
+            // one write port by lanes: the value (bus, sweep), the flags
+            // (bus and sweep of TIMING0-2; the sweep's zero in POLL_CTRL's
+            // is before any timer), the timer's (tm_we, at pa)
+            wire [AW-1:0] w_a  = sw_we ? sw_a : tm_we ? pa : wa;
+            wire          we_f = sw_we || (wr && wr_reg != 2'd3) || tm_we;
+            wire [3:0]    fl_d = tm_we ? tm_wd[3:0] : wr_cmp;
+            always @(posedge clk) begin
+                if (wr || sw_we) mem[w_a][31:0]  <= wr_data;
+                if (we_f)        mem[w_a][35:32] <= fl_d;
+                if (tm_we)       mem[w_a][47:36] <= tm_wd[15:4];
+            end
+            assign pc_tm = m_rd[MW-1:32];
+        end else begin : g_wr
+            always @(posedge clk)
+                if (wr || sw_we) mem[sw_we ? sw_a : wa] <= {wr_cmp, wr_data};
+            assign pc_tm = 16'd0;
+            // verilator lint_off UNUSEDSIGNAL
+            wire unused_tm = tm_we ^ (^tm_wd);
+            // verilator lint_on UNUSEDSIGNAL
+        end
+    endgenerate
     // (words past TIMING2 and past the last channel are swept too, and
     // never read)
 
@@ -233,7 +273,7 @@ module twh_timing #(
     // with the address as a wire chosen by CHANNELS the one-channel netlist
     // came out a dozen LUTs larger (Yosys 0.70), where this keeps it the
     // direct fetch's own.
-    wire [35:0] e_word = m_rd;
+    wire [35:0] e_word = m_rd[35:0];
     reg         e_ok;
     reg  [4:0]  e_ch;
     reg  [2:0]  e_fld;
@@ -395,6 +435,9 @@ module twh_timing #(
         // the walker asks only with POLL, for an existing channel, while
         // the sweep does not write (a bus read in that clock goes first)
         if (pc_rd) assume(POLL != 0 && !sw_we && pc_ch < CHANNELS);
+        // the walker writes a timer (TMR) only at its commit: never with a
+        // bus write (it yields), the sweep or its own read
+        if (tm_we) assume(TMR != 0 && !wr && !sw_we && !pc_rd && pc_ch < CHANNELS);
         // the core's register port takes no request during the sweep,
         // and its data register holds the default of the word swept (no
         // window flags: the defaults lie in their windows)
@@ -440,8 +483,8 @@ module twh_timing #(
             // lie in their windows: no flags) or a write its value, which
             // only comes once the sweep is over
             if (PROG != 0 && f_areg != 2'd3 && (!sw_on || sw_n[AW] || sw_n[AW-1:0] > f_a))
-                assert(mem[f_a] == (f_w ? {f_flags(f_areg, f_val), f_val}
-                                        : {4'd0, f_def(f_areg)}));
+                assert(mem[f_a][35:0] == (f_w ? {f_flags(f_areg, f_val), f_val}
+                                              : {4'd0, f_def(f_areg)}));
             // (POLL_CTRL's flags are never read)
             if (POLL != 0 && f_areg == 2'd3 && (!sw_on || sw_n[AW] || sw_n[AW-1:0] > f_a))
                 assert(mem[f_a][31:0] == f_now);
@@ -455,6 +498,38 @@ module twh_timing #(
             if (PROG == 0 && f_areg != 2'd3) assert(!f_w);
         end
     end
+
+    // ---- TMR: the followed channel's timer, in its POLL_CTRL word's
+    // lanes 47:32, is the last the walker wrote (no bus write or sweep
+    // touches it), and the walker reads it so
+    reg        f_tw;
+    reg [15:0] f_tv;
+    always @(posedge clk) begin
+        if (rst) begin
+            f_tw <= 1'b0;
+        end else if (tm_we && pc_ch == f_ach && f_areg == 2'd3) begin
+            f_tw <= 1'b1;
+            f_tv <= tm_wd;
+        end
+    end
+    reg        f_pt = 1'b0;
+    reg [15:0] f_pt_want;
+    always @(posedge clk) begin
+        f_pt      <= f_ok && !rst && pc_rd && !rd && pc_ch == f_ach && f_areg == 2'd3 && f_tw;
+        f_pt_want <= f_tv;
+    end
+    generate
+        if (TMR != 0) begin : g_f_tm
+            always @(*) begin
+                // (a timer is written only after the sweep's writes,
+                // whose zero in POLL_CTRL's flag lanes would clear its
+                // low bits: the walker starts in the sweep's wait)
+                if (f_ok && f_tw) assert(f_areg == 2'd3 && (!sw_on || sw_n[AW]) &&
+                                         mem[f_a][47:32] == f_tv);
+                if (f_pt) assert(pc_tm == f_pt_want);
+            end
+        end
+    endgenerate
 
     // ---- the bus reads the register's value as of its request's clock
     // (a read in the clock its word is written may see either value: the

@@ -110,8 +110,10 @@ PIECES = [("twh_engine", {"CHANNELS": "3", "TAG_W": "4"},
            "the time-shared engine of three channels (sequencer, frame, receiver, "
            "queues, result hand-over, pins; its RAMs; 4-bit tags)"),
           ("twh_polls", {"CHANNELS": "3"}, "three channels' pollers with their registers "
-                                           "in RAM"),
-          ("twh_fifo", {"W": "33", "DEPTH": "16"}, "the 16-deep command FIFO"),
+                                           "in RAM (their timers are in twh_timing's "
+                                           "memory, not here)"),
+          ("twh_fifo", {"W": "32", "DEPTH": "16"}, "the 16-deep command FIFO (a 32-bit "
+                                                   "entry up to four channels)"),
           ("twh_timing", {"CHANNELS": "3"}, "the timing registers of three channels "
                                             "with their fetch and clamp (block RAM)")]
 
