@@ -62,7 +62,7 @@ module tb_link_smoke;
         .lab(1'b0),
         .wr(1'b0), .wr_ch(5'd0), .wr_reg(2'd0), .wr_data(t_sw_word), .wr_cmp(4'd0),
         .rd(1'b0), .rd_ch(5'd0), .rd_reg(2'd0), .rd_data(t_rd_unused),
-        .pc_rd(1'b0), .pc_ch(5'd0), .pc_word(),
+        .pc_rd(1'b0), .pc_ch(5'd0), .pc_word(), .pc_tm(), .tm_we(1'b0), .tm_wd(16'd0),
         .sc_v(1'b0), .sc_ch(5'd0), .sc_ph(3'd0), .sc_tr(2'd0),
         .nx_fld(nx_fld), .dur_we(dur_we), .dur_v(dur_v), .dur_ch(dur_ch), .dur(dur),
         .dur_fld(dur_fld)
