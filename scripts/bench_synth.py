@@ -114,7 +114,9 @@ PIECES = [("twh_engine", {"CHANNELS": "3", "TAG_W": "4"},
                                            "memory, not here)"),
           ("twh_fifo", {"W": "32", "DEPTH": "16"}, "the 16-deep command FIFO (a 32-bit "
                                                    "entry up to four channels)"),
-          ("twh_timing", {"CHANNELS": "3"}, "the timing registers of three channels "
+          # (two channels: three, with the pollers' timer ports, are 210
+          # ports, more than the CT256's pins)
+          ("twh_timing", {"CHANNELS": "2"}, "the timing registers of two channels "
                                             "with their fetch and clamp (block RAM)")]
 
 
