@@ -26,9 +26,9 @@
 //   keeps the word it read; the write's EN = 0 withdraws what the commit
 //   raises a clock later), so no bus compare reaches the commit's RAM
 //   write enables. (With the timers in twh_timing's memory, TMR below, a
-//   commit never meets a write there: it waits for a clock without one,
-//   the walker reading the channel again; the single bit port_wr, not a
-//   compare, is what reaches the timer's write enable.)
+//   commit never meets a write there: it waits for a clock without one;
+//   the single bit port_wr, not a compare, is what reaches the timer's
+//   write enable.)
 // - POLL_RESULT is written when a poll's result arrives, with the count
 //   the engine keeps in the channel's state word; a read in the clock of
 //   that write answers the word before it (the read comes first, and the
@@ -45,8 +45,9 @@
 //   timer is in its POLL_CTRL word of twh_timing's memory (pc_tm, read
 //   with pc_word; written at the commit, pt_we), a block fewer; the commit
 //   then waits for a clock in which the bus does not write that memory
-//   (port_wr): the walker reads the channel again, as after a write to
-//   it. With one channel, or LUT RAM, they are a memory of their own here.
+//   (port_wr), its step held (a write to the channel meanwhile makes the
+//   walker read it again). With one channel, or LUT RAM, they are a
+//   memory of their own here.
 // - Reset: twh_timing's reset sweep writes every channel's POLL_CTRL with
 //   its reset value; the register port takes no request and the walker
 //   does not start until its writes are over (sw_we; the timers need
@@ -187,9 +188,21 @@ module twh_polls #(
         else if (l_now)  tm_wd = {p_iv <= 15'd1, p_iv};
         else             tm_wd = {tm_rd[14:0] == 15'd2, tm_rd[14:0] - 15'd1};
     end
-    always @(posedge clk) begin
-        q_tm     <= tm_wd;
-    end
+    // TMR: a commit that meets a bus write of twh_timing's memory waits
+    // for the next clock without one, its step's timer and copy flag held
+    // (a retry from the read, three clocks on, could meet a write stream
+    // in step with it every time)
+    wire c_wait = TMR != 0 && w_on && w_s == 2'd2 && !w_dirty && port_wr;
+    // (q_tm and cm_did written out for each build: with the wait's terms
+    // left for synthesis to fold, the one-channel netlist, the same logic,
+    // placed 12 logic cells larger: ABC's mapping, Yosys 0.70, HX8K)
+    generate
+        if (TMR != 0) begin : g_qtm_w
+            always @(posedge clk) if (!c_wait) q_tm <= tm_wd;
+        end else begin : g_qtm
+            always @(posedge clk) q_tm <= tm_wd;
+        end
+    endgenerate
     wire commit = w_on && w_s == 2'd2 && !w_dirty && !(TMR != 0 && port_wr);
     localparam [CW-1:0] LAST = CHANNELS[CW-1:0] - 1'b1;
     reg          set_due;       // raise due a clock after the command is written
@@ -219,6 +232,10 @@ module twh_polls #(
                 // a write to the channel between its read and its commit:
                 // read it again
                 w_s     <= 2'd2;
+                if (wr && wr_ch == w_ch) w_dirty <= 1'b1;
+            end else if (TMR != 0 && c_wait) begin
+                // (the port is the bus's this clock; a write to this
+                // channel makes the walker read it again)
                 if (wr && wr_ch == w_ch) w_dirty <= 1'b1;
             end else begin
                 w_s <= 2'd0;
@@ -251,7 +268,13 @@ module twh_polls #(
     assign cm_we = w_on && w_s == 2'd1 && reload && !(due_q && !(p_take && p_ch == w_ch)) &&
                    !rst && POLLING != 0;
     reg          cm_did;
-    always @(posedge clk) cm_did <= cm_we;
+    generate
+        if (TMR != 0) begin : g_cmd_w
+            always @(posedge clk) cm_did <= cm_we || (!rst && cm_did && c_wait);
+        end else begin : g_cmd
+            always @(posedge clk) cm_did <= cm_we;
+        end
+    endgenerate
     // A commit clears its channel's restart flag a clock later (the walker
     // reads that flag again no sooner than two clocks after). A POLL_CTRL write with EN = 0 to the channel in the commit's own
     // clock withdraws its due poll and restarts its timer a clock later, so
@@ -395,6 +418,17 @@ module twh_polls #(
         f_prq  <= f_prs;
         f_rq   <= !rst && rd_res && rd_ch == f_n;
     end
+    // the step's timer word and whether it copied the command
+    reg [15:0] f_tmw;
+    reg        f_cp;
+    always @(posedge clk) begin
+        if (w_on && w_s == 2'd1) begin
+            f_tmw <= tm_wd;
+            f_cp  <= cm_we;
+        end
+    end
+    reg f_cw = 1'b0;
+    always @(posedge clk) f_cw <= c_wait;
     always @(*) begin
         if (f_ok && POLLING != 0) begin
             // every POLL_CTRL word that polls names a read-only command
@@ -415,6 +449,12 @@ module twh_polls #(
             if (w_on && w_s == 2'd1 && w_ch == f_n && pc_word[31]) assert(f_ro(pc_word[7:0]));
             if (cm_did) assert(w_on && w_s == 2'd2);
             if (cm_did && w_ch == f_n) assert(f_ro(g_mem.cm_mem[f_n][7:0]) && !due[f_n]);
+            // (while the commit waits, TMR: the copied word still polls,
+            // unless a write to the channel has made the walker read again)
+            if (cm_did && !w_dirty && w_ch == f_n) assert(f_pc[31]);
+            // the commit writes the step's timer and raises due after the
+            // step's copy, however long it waited (TMR)
+            if (w_on && w_s == 2'd2) assert(q_tm == f_tmw && cm_did == f_cp);
             if (w_on && w_s == 2'd2 && !w_dirty) assert(due_q == due[w_ch]);
             // (set_due follows a commit by a clock, the walker then reading)
             if (set_due) assert(!w_on || w_s == 2'd0);
@@ -443,6 +483,8 @@ module twh_polls #(
         if (f_ok && !rst) begin
             cover(p_take && p_ch == f_n);
             cover(set_due && set_ch == f_n);
+            // (a commit that waited for a clock without a bus write, TMR)
+            if (TMR != 0) cover(f_cw && tm_we && cm_did);
         end
     end
 `endif
