@@ -109,4 +109,11 @@
 // written unless the factory unlock is armed
 `define TWH_FACTORY_END   9'h020
 
+// Whether the pollers' timers live beside POLL_CTRL in twh_timing's memory
+// (1) or in a memory of twh_polls' own (0): with pollers, above one
+// channel, in block RAM. twh_timing and twh_polls must agree, so both take
+// it from here.
+`define TWH_POLL_TIMERS_IN_TIMING(poll, channels, ram_block) \
+    (((poll) != 0 && (channels) > 1 && (ram_block) != 0) ? 1 : 0)
+
 `endif

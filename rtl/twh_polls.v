@@ -143,8 +143,8 @@ module twh_polls #(
             end
         end
     endgenerate
-    // (the same condition as twh_timing's, from the same parameters)
-    localparam integer TMR = (POLLING != 0 && CHANNELS > 1 && RAM_BLOCK != 0) ? 1 : 0;
+    // (twh_timing's condition, from twh_defs.vh)
+    localparam integer TMR = `TWH_POLL_TIMERS_IN_TIMING(POLLING, CHANNELS, RAM_BLOCK);
     wire [15:0] tm_rd;
     wire        tm_we;
     reg  [15:0] tm_wd;

@@ -170,7 +170,7 @@ module twh_timing #(
     // verilator lint_off UNUSEDPARAM
     localparam STYLE = (RAM_BLOCK != 0) ? "block" : "distributed";
     // verilator lint_on UNUSEDPARAM
-    localparam integer TMR = (POLL != 0 && CHANNELS > 1 && RAM_BLOCK != 0) ? 1 : 0;
+    localparam integer TMR = `TWH_POLL_TIMERS_IN_TIMING(POLL, CHANNELS, RAM_BLOCK);
     localparam integer MW  = (TMR != 0) ? 48 : 36;
     (* no_rw_check *) (* ram_style = STYLE *) reg [MW-1:0] mem [0:NW-1];
     wire [AW-1:0] wa = {wr_ch[AW-3:0], wr_reg};
