@@ -586,10 +586,25 @@ module twh_engine #(
     wire          i1_en = enable;
     wire          i1_pg = |(poll_req & at1) && (POLLING != 0) && i1_en;
     wire          i1_ne = s1_init && (c1_cnt != {(QW+1){1'b0}});
-    wire          i1_cc = s1_init && (c1_cc != {(QW+1){1'b0}});
+    // (c1_cc != 0 without its subtractor: cnt - act is 0 exactly when cnt
+    // is act; the subtractor's carry in front of the start's decision was
+    // the UP5K's longest path at one channel)
+    wire          i1_cc = s1_init && ((s1_fl || cancel) ? (c1_cnt != {{QW{1'b0}}, c_rd[C_AC]})
+                                                        : (c_rd[C_CC +: QW+1] != {(QW+1){1'b0}}));
     wire          i1_pf = s1_init && c_rd[C_PF];
     wire          i1_cq = i1_ne && !(i1_pg && i1_pf);   // the head's turn
     reg           s2_sp, s2_sq, s2_sqk, s2_sqn, s2_idle_go;
+    // The count's next value is chosen at S2 by selects decoded here, a
+    // clock ahead, from the phase and the last period as S2 has them (from
+    // the phase's copy through its decode and the start into the count's
+    // load had been the UP5K's longest path at one channel, four seeds of
+    // five): the length (s2_klen, or s2_klq with the head's skip code), a
+    // constant (s2_kc: the command phase's length after the preamble,
+    // s2_kpre, or the one period of idle after the turnaround), or the
+    // count down a period unless it is the last
+    wire [2:0]    ph1 = s1_init ? c_rd[C_PH +: 3] : `TWH_PH_IDLE;
+    wire          last1 = s1_init && (st_rd[18:4] == 15'd0);
+    reg           s2_klen, s2_kpre, s2_kc, s2_klq;
     // The word the step takes: the phase from the control word, the early
     // part from its copy, the late part from its RAM's register. In the
     // first scan after a reset the late RAM's word is not the channel's.
@@ -622,6 +637,17 @@ module twh_engine #(
         s2_ccnt <= s1_init ? c1_cc : {(QW+1){1'b0}};
         s2_cc   <= i1_cc;
         s2_sp   <= !rst && i1_pg && (i1_pf || !i1_ne);
+        // the length: at the last period of a phase whose successor has
+        // one, or at a poll's start (start_p) ...
+        s2_klen <= (last1 && (ph1 == `TWH_PH_CHARGE || ph1 == `TWH_PH_SYNC ||
+                              ph1 == `TWH_PH_COMMAND || ph1 == `TWH_PH_EXECUTE ||
+                              ph1 == `TWH_PH_LISTEN)) ||
+                   (!rst && i1_go && i1_pg && (i1_pf || !i1_ne));
+        // ... or at the head's start onto the line (start_l, with the head's
+        // skip code at S2)
+        s2_klq  <= i1_go && i1_cq && i1_en && !i1_cc;
+        s2_kpre <= last1 && (ph1 == `TWH_PH_PREAMBLE);
+        s2_kc   <= last1 && (ph1 == `TWH_PH_PREAMBLE || ph1 == `TWH_PH_TURNAROUND);
         s2_idle_go <= i1_go;
         s2_sq   <= i1_cq && (i1_en || i1_cc);
         s2_sqk  <= i1_cq && !i1_en && !i1_cc;
@@ -706,12 +732,10 @@ module twh_engine #(
         wn   = w;
         hand = rwait && res_free && res_mine;
         if (hand) wn[19] = 1'b0;
-        if (!last) wn[18:3] = cnt - 16'd1;
         case (ph)
             `TWH_PH_IDLE:
                 if (start_p) begin
                     wn[2:0]  = `TWH_PH_CHARGE;
-                    wn[18:3] = s2_len;
                     wn[21:20] = 2'b00;
                     wn[SH +: 16] = p_cmd;
                     wn[PL] = 1'b1;
@@ -719,20 +743,17 @@ module twh_engine #(
             `TWH_PH_CHARGE:
                 if (last) begin
                     wn[2:0] = `TWH_PH_SYNC;
-                    wn[18:3] = s2_len;
                 end
             `TWH_PH_SYNC: begin
                 if (!env) wn[20] = 1'b1;
                 if (last) begin
                     wn[2:0] = `TWH_PH_PREAMBLE;
-                    wn[18:3] = s2_len;
                 end
             end
             `TWH_PH_PREAMBLE: begin
                 if (env) wn[21] = 1'b1;
                 if (last) begin
                     wn[2:0] = `TWH_PH_COMMAND;
-                    wn[18:3] = (q_code[7] && !w[PL]) ? 16'd1408 : 16'd1056;
                     wn[BN +: 4] = 4'd0;
                     wn[NB +: 2] = 2'd0;
                 end
@@ -740,7 +761,6 @@ module twh_engine #(
             `TWH_PH_COMMAND:
                 if (last) begin
                     wn[2:0] = `TWH_PH_EXECUTE;
-                    wn[18:3] = s2_len;
                 end else if (s2_bl) begin       // a bit's last period (cnt[4:0] == 1)
                     if (w[BN +: 4] == 4'd10) begin
                         wn[BN +: 4] = 4'd0;
@@ -752,13 +772,11 @@ module twh_engine #(
             `TWH_PH_EXECUTE:
                 if (last) begin
                     wn[2:0] = `TWH_PH_LISTEN;
-                    wn[18:3] = s2_len;
                     wn[U0 +: UW] = {UW{1'b0}};
                 end
             `TWH_PH_LISTEN:
                 if (last) begin
                     wn[2:0] = `TWH_PH_TURNAROUND;
-                    wn[18:3] = s2_len;
                     wn[U0 +: UW] = {UW{1'b0}};
                     wn[PL] = 1'b0;
                     if (w[PL]) wn[CT +: 12] = w[CT +: 12] + 12'd1;
@@ -773,7 +791,6 @@ module twh_engine #(
             default:    // turnaround
                 if (last) begin
                     wn[2:0] = `TWH_PH_IDLE;
-                    wn[18:3] = 16'd1;
                 end
         endcase
         // The head entry's start (an idle channel's, never with a poll's),
@@ -782,13 +799,19 @@ module twh_engine #(
         // is the last choice in front of the word
         if (start_l) begin
             wn[2:0]  = `TWH_PH_CHARGE;
-            wn[18:3] = s2_len;
             wn[21:20] = 2'b00;
         end else if (start_q) begin     // with a skip: answered with it
             wn[19] = 1'b1;
             wn[U0 +: 16] = 16'd0;
             wn[RS +: 4]  = h_skip;
         end
+        // the count (its selects from S1, above): the next phase's length,
+        // a constant, or down a period unless this is the last (an idle
+        // that starts nothing keeps its 0 or 1). The decrement is the
+        // adder's operand, so the choice behind it has three terms
+        if (s2_klen || (s2_klq && q_skip == 4'd0)) wn[18:3] = s2_len;
+        else if (s2_kc) wn[18:3] = !s2_kpre ? 16'd1 : (q_code[7] && !w[PL]) ? 16'd1408 : 16'd1056;
+        else            wn[18:3] = cnt + {16{!last}};
     end
 
     // the control word's step: the port's command written at the tail
@@ -1423,6 +1446,16 @@ module twh_engine #(
             if (s2_v) assert(s2_mine == (!rc_v || rc_ch == s2_ch));
             // (a poll's end taken at S1 is the word's at S2)
             if (s2_v) assert(poll_end == ((ph == `TWH_PH_LISTEN) && last && w[PL]));
+            // (the count's selects taken at S1 are the phase's and the
+            // start's at S2)
+            if (s2_v) begin
+                assert(s2_klen == ((last && (ph == `TWH_PH_CHARGE || ph == `TWH_PH_SYNC ||
+                                             ph == `TWH_PH_COMMAND || ph == `TWH_PH_EXECUTE ||
+                                             ph == `TWH_PH_LISTEN)) || start_p));
+                assert((s2_klq && q_skip == 4'd0) == start_l);
+                assert(s2_kpre == (last && ph == `TWH_PH_PREAMBLE));
+                assert(s2_kc == (last && (ph == `TWH_PH_PREAMBLE || ph == `TWH_PH_TURNAROUND)));
+            end
             if (s2_v && hand && rc_v) assert(rc_ch == s2_ch);
             if (rc_v && rc_ch == f_ch) assert(f_cur[19]);
             if (s2_v && s2_ch == f_ch && rc_v && rc_ch == f_ch) assert(!(s3_v && s3_res));
