@@ -598,13 +598,14 @@ module twh_engine #(
     // clock ahead, from the phase and the last period as S2 has them (from
     // the phase's copy through its decode and the start into the count's
     // load had been the UP5K's longest path at one channel, four seeds of
-    // five): the length (s2_klen, or s2_klq with the head's skip code), a
+    // five): the length (s2_klen, or the head's start onto the line,
+    // start_l, which waits for the head's skip code), a
     // constant (s2_kc: the command phase's length after the preamble,
     // s2_kpre, or the one period of idle after the turnaround), or the
     // count down a period unless it is the last
     wire [2:0]    ph1 = s1_init ? c_rd[C_PH +: 3] : `TWH_PH_IDLE;
     wire          last1 = s1_init && (st_rd[18:4] == 15'd0);
-    reg           s2_klen, s2_kpre, s2_kc, s2_klq;
+    reg           s2_klen, s2_kpre, s2_kc;
     // The word the step takes: the phase from the control word, the early
     // part from its copy, the late part from its RAM's register. In the
     // first scan after a reset the late RAM's word is not the channel's.
@@ -638,14 +639,11 @@ module twh_engine #(
         s2_cc   <= i1_cc;
         s2_sp   <= !rst && i1_pg && (i1_pf || !i1_ne);
         // the length: at the last period of a phase whose successor has
-        // one, or at a poll's start (start_p) ...
+        // one, or at a poll's start (start_p)
         s2_klen <= (last1 && (ph1 == `TWH_PH_CHARGE || ph1 == `TWH_PH_SYNC ||
                               ph1 == `TWH_PH_COMMAND || ph1 == `TWH_PH_EXECUTE ||
                               ph1 == `TWH_PH_LISTEN)) ||
                    (!rst && i1_go && i1_pg && (i1_pf || !i1_ne));
-        // ... or at the head's start onto the line (start_l, with the head's
-        // skip code at S2)
-        s2_klq  <= i1_go && i1_cq && i1_en && !i1_cc;
         s2_kpre <= last1 && (ph1 == `TWH_PH_PREAMBLE);
         s2_kc   <= last1 && (ph1 == `TWH_PH_PREAMBLE || ph1 == `TWH_PH_TURNAROUND);
         s2_idle_go <= i1_go;
@@ -809,7 +807,7 @@ module twh_engine #(
         // a constant, or down a period unless this is the last (an idle
         // that starts nothing keeps its 0 or 1). The decrement is the
         // adder's operand, so the choice behind it has three terms
-        if (s2_klen || (s2_klq && q_skip == 4'd0)) wn[18:3] = s2_len;
+        if (s2_klen || start_l) wn[18:3] = s2_len;
         else if (s2_kc) wn[18:3] = !s2_kpre ? 16'd1 : (q_code[7] && !w[PL]) ? 16'd1408 : 16'd1056;
         else            wn[18:3] = cnt + {16{!last}};
     end
@@ -1452,7 +1450,6 @@ module twh_engine #(
                 assert(s2_klen == ((last && (ph == `TWH_PH_CHARGE || ph == `TWH_PH_SYNC ||
                                              ph == `TWH_PH_COMMAND || ph == `TWH_PH_EXECUTE ||
                                              ph == `TWH_PH_LISTEN)) || start_p));
-                assert((s2_klq && q_skip == 4'd0) == start_l);
                 assert(s2_kpre == (last && ph == `TWH_PH_PREAMBLE));
                 assert(s2_kc == (last && (ph == `TWH_PH_PREAMBLE || ph == `TWH_PH_TURNAROUND)));
             end
