@@ -626,7 +626,7 @@ module twh_engine #(
         s2_rdec <= d1_rx;
         s2_status <= d1_status;
         s2_ok   <= d1_ok;
-        s2_last <= s1_init ? (st_rd[18:4] == 15'd0) : 1'b0;
+        s2_last <= last1;
         s2_bl   <= (st_rd[7:3] == 5'd1);
         // a poll's listen ends: into twh_polls' result write, off the step
         s2_pend <= s1_init && (st_rd[2:0] == `TWH_PH_LISTEN) && (st_rd[18:4] == 15'd0) &&
